@@ -1,0 +1,71 @@
+// The scene model: what a scenario describes and both renderers draw.
+// Units are metres and radiometric (emissive radiance in W/(sr·m²)-like units,
+// directional illuminance as irradiance at normal incidence); there is no
+// exposure in the harness: images are linear HDR.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace gi {
+
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  // empty, or one per position
+  std::vector<std::uint32_t> indices;  // triangle list, counter-clockwise = front
+  std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Material {
+  std::string name;
+  glm::vec3 base_color{0.8f};
+  float metallic = 0.0f;
+  float perceptual_roughness = 0.5f;
+  float reflectance = 0.5f;  // 0.5 → F0 = 4% (Filament's convention)
+  glm::vec3 emissive{0.0f};  // radiance of the front face
+};
+
+struct Instance {
+  std::string name;
+  std::uint32_t mesh = 0;
+  std::uint32_t material = 0;
+  glm::mat4 transform{1.0f};     // object → world
+  glm::vec3 emissive_scale{1.0f};  // light events scale the material's emission
+  bool visible = true;           // despawned instances stay in the list, hidden
+};
+
+struct DirectionalLight {
+  std::string name;
+  glm::vec3 direction{0.0f, 1.0f, 0.0f};  // unit vector towards the light
+  glm::vec3 color{1.0f};
+  float illuminance = 1.0f;       // irradiance on a surface facing the light
+  float angular_radius = 0.00465f;  // radians (the sun: 0.266°)
+  bool enabled = true;
+};
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float vertical_fov_degrees = 40.0f;
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Instance> instances;
+  std::vector<DirectionalLight> directional_lights;
+  Camera camera;
+  std::vector<std::string> warnings;  // stated simplifications made on import
+
+  std::optional<std::uint32_t> find_instance(const std::string& name) const;
+  std::optional<std::uint32_t> find_directional_light(const std::string& name) const;
+  std::size_t triangle_count() const;  // over visible instances
+};
+
+}  // namespace gi

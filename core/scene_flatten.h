@@ -1,0 +1,57 @@
+// Turns a core::Scene into the flat arrays both renderers read
+// (core/shared/scene_types.h). Geometry (vertices, indices) changes only when
+// meshes are added; instances, materials and lights may change every frame.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/shared/scene_types.h"
+
+namespace gi {
+
+using shader::FrameConstants;
+using shader::GpuCamera;
+using shader::GpuInstance;
+using shader::GpuLight;
+using shader::GpuMaterial;
+using shader::GpuVertex;
+
+static_assert(sizeof(GpuVertex) == 32);
+static_assert(sizeof(GpuInstance) == 160);
+static_assert(sizeof(GpuMaterial) == 48);
+static_assert(sizeof(GpuLight) == 48);
+static_assert(sizeof(GpuCamera) == 64);
+static_assert(sizeof(FrameConstants) == 160);
+
+struct MeshRange {
+  std::uint32_t first_index = 0;
+  std::uint32_t first_vertex = 0;
+  std::uint32_t triangle_count = 0;
+  std::uint32_t vertex_count = 0;
+};
+
+struct FlatGeometry {
+  std::vector<GpuVertex> vertices;
+  std::vector<std::uint32_t> indices;  // per mesh, relative to its first_vertex
+  std::vector<MeshRange> meshes;
+};
+
+struct FlatInstances {
+  std::vector<GpuInstance> instances;  // one per Scene::instances entry, hidden ones included
+  std::vector<GpuMaterial> materials;
+  std::vector<GpuLight> lights;        // directional lights first
+  std::uint32_t directional_light_count = 0;
+};
+
+// Triangles of every mesh are reordered along a Morton curve of their
+// centroids: lavapipe builds its BLAS by splitting the index list in order,
+// and unsorted triangles made rays 500-1000x slower (DESIGN §4). Both
+// renderers see the same order, so primitive ids agree.
+FlatGeometry flatten_geometry(const Scene& scene);
+
+FlatInstances flatten_instances(const Scene& scene, const FlatGeometry& geometry);
+
+GpuCamera make_gpu_camera(const Camera& camera, std::uint32_t width, std::uint32_t height);
+
+}  // namespace gi

@@ -1,0 +1,145 @@
+// The unbiased reference path tracer: next-event estimation + BRDF sampling,
+// combined with the balance heuristic, Russian roulette after 3 bounces.
+// The GPU reference mode (gpu/shaders/reference_path_trace.comp) and the Embree
+// reference (core/reference/) both run this code; they differ in how rays are
+// traced, in their random streams, and in nothing else.
+//
+// Bridge-included like scene_access.h (include that first). Extra accessors:
+//   bool trace_closest(vec3 origin, vec3 dir, float tmax, OUT(Hit) hit);
+//   bool trace_unoccluded(vec3 origin, vec3 dir, float tmax);
+
+// Spawn offset along the geometric normal, scaled with the coordinates' size so
+// it stays above float rounding far from the origin.
+GI_FN vec3 offset_ray_origin(vec3 p, vec3 n) {
+  float scale = max(1.0f, max3(abs(p)));
+  return p + n * (1e-4f * scale);
+}
+
+GI_FN float balance_heuristic(float a, float b) { return a / (a + b); }
+
+// Picks one light uniformly, then a triangle, then a point (or a direction in
+// a directional light's cone). pdf is in solid angle at p, selection included.
+GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist, OUT(vec3) radiance,
+                        OUT(float) pdf) {
+  uint count = scene_light_count();
+  if (count == 0u) return false;
+  uint index = min(uint(rng_next_float(rng) * float(count)), count - 1u);
+  GpuLight light = scene_light(index);
+  vec2 u = rng_next_vec2(rng);
+  float pick = rng_next_float(rng);
+  if (light.kind == LIGHT_KIND_DIRECTIONAL) {
+    dir = to_world(sample_cone(u, light.direction.w), vec3(light.direction));
+    dist = RAY_TMAX;
+    radiance = vec3(light.radiance);
+    pdf = 1.0f / (float(count) * cone_solid_angle(light.direction.w));
+    return true;
+  }
+  uint tri = min(uint(pick * float(light.triangle_count)), light.triangle_count - 1u);
+  SurfacePoint q = surface_at(light.instance, tri, sample_triangle(u));
+  vec3 d = q.position - p;
+  float dist2 = dot(d, d);
+  if (dist2 <= 0.0f || q.area <= 0.0f) return false;
+  dist = sqrt(dist2);
+  dir = d / dist;
+  float cos_light = -dot(dir, q.geometric_normal);  // emitters shine from the front face only
+  if (cos_light <= 0.0f) return false;
+  radiance = q.emissive;
+  pdf = dist2 / (cos_light * float(count) * float(light.triangle_count) * q.area);
+  return true;
+}
+
+// Solid-angle pdf with which sample_light would have produced this emitter hit.
+GI_FN float emissive_hit_light_pdf(vec3 from, SurfacePoint s, uint instance_index, vec3 dir, float t) {
+  GpuInstance inst = scene_instance(instance_index);
+  float cos_light = -dot(dir, s.geometric_normal);
+  if (cos_light <= 0.0f || s.area <= 0.0f) return 0.0f;
+  return t * t / (cos_light * float(scene_light_count()) * float(inst.triangle_count) * s.area);
+}
+
+// Radiance arriving along a ray that escaped the scene: the directional lights
+// whose cone contains it, weighted against light sampling unless the ray was
+// not BRDF-sampled (camera rays: brdf_pdf = 0).
+GI_FN vec3 escaped_radiance(vec3 dir, float brdf_pdf_value) {
+  vec3 sum = vec3(0.0f);
+  uint count = scene_light_count();
+  uint directional = scene_directional_light_count();
+  for (uint i = 0u; i < directional; ++i) {
+    GpuLight light = scene_light(i);
+    if (1.0f - dot(dir, vec3(light.direction)) > light.direction.w) continue;
+    float w = 1.0f;
+    if (brdf_pdf_value > 0.0f)
+      w = balance_heuristic(brdf_pdf_value, 1.0f / (float(count) * cone_solid_angle(light.direction.w)));
+    sum += w * vec3(light.radiance);
+  }
+  return sum;
+}
+
+GI_FN BrdfParams material_brdf(uint material) {
+  GpuMaterial m = scene_material(material);
+  return brdf_params(vec3(m.base_color_metallic), m.base_color_metallic.w,
+                     m.emissive_perceptual_roughness.w, m.reflectance.x);
+}
+
+// Radiance along one camera ray. max_bounces caps the path length (Russian
+// roulette ends nearly every path long before; the cap is shared by both
+// renderers, so it biases neither against the other).
+GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bounces) {
+  vec3 radiance = vec3(0.0f);
+  vec3 throughput = vec3(1.0f);
+  float previous_brdf_pdf = 0.0f;  // 0: the ray was not BRDF-sampled (camera ray)
+  vec3 previous_position = origin;
+  for (uint bounce = 0u; bounce < max_bounces; ++bounce) {
+    Hit hit;
+    if (!trace_closest(origin, direction, RAY_TMAX, hit)) {
+      radiance += throughput * escaped_radiance(direction, previous_brdf_pdf);
+      break;
+    }
+    SurfacePoint s = surface_at_hit(hit);
+    bool front = dot(direction, s.geometric_normal) < 0.0f;
+    if (front && max3(s.emissive) > 0.0f) {
+      float w = 1.0f;
+      if (previous_brdf_pdf > 0.0f)
+        w = balance_heuristic(previous_brdf_pdf,
+                              emissive_hit_light_pdf(previous_position, s, hit.instance, direction, hit.t));
+      radiance += throughput * s.emissive * w;
+    }
+
+    // Shade on the side the ray arrived from.
+    vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
+    vec3 ns = dot(s.shading_normal, ng) < 0.0f ? -s.shading_normal : s.shading_normal;
+    vec3 v = -direction;
+    BrdfParams brdf = material_brdf(s.material);
+    vec3 spawn = offset_ray_origin(s.position, ng);
+
+    // Next-event estimation.
+    vec3 l;
+    float dist;
+    vec3 le;
+    float light_pdf;
+    if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
+      vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
+      if (max3(f) > 0.0f && trace_unoccluded(spawn, l, dist * (1.0f - 1e-4f) - 1e-4f)) {
+        float w = balance_heuristic(light_pdf, brdf_pdf(brdf, ns, v, l));
+        radiance += throughput * f * le * (w / light_pdf);
+      }
+    }
+
+    // BRDF sampling continues the path.
+    vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
+    float pdf;
+    if (!brdf_sample(brdf, ns, v, u, l, pdf)) break;
+    if (dot(l, ng) <= 0.0f) break;
+    throughput *= brdf_eval(brdf, ns, v, l) * (max(dot(ns, l), 0.0f) / pdf);
+    previous_brdf_pdf = pdf;
+    previous_position = s.position;
+
+    if (bounce >= 3u) {
+      float survive = min(max3(throughput), 0.95f);
+      if (rng_next_float(rng) >= survive) break;
+      throughput /= survive;
+    }
+    origin = spawn;
+    direction = l;
+  }
+  return radiance;
+}
