@@ -49,7 +49,7 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
 }
 
 // Solid-angle pdf with which sample_light would have produced this emitter hit.
-GI_FN float emissive_hit_light_pdf(vec3 from, SurfacePoint s, uint instance_index, vec3 dir, float t) {
+GI_FN float emissive_hit_light_pdf(SurfacePoint s, uint instance_index, vec3 dir, float t) {
   GpuInstance inst = scene_instance(instance_index);
   float cos_light = -dot(dir, s.geometric_normal);
   if (cos_light <= 0.0f || s.area <= 0.0f) return 0.0f;
@@ -87,7 +87,6 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
   vec3 radiance = vec3(0.0f);
   vec3 throughput = vec3(1.0f);
   float previous_brdf_pdf = 0.0f;  // 0: the ray was not BRDF-sampled (camera ray)
-  vec3 previous_position = origin;
   for (uint bounce = 0u; bounce < max_bounces; ++bounce) {
     Hit hit;
     if (!trace_closest(origin, direction, RAY_TMAX, hit)) {
@@ -100,7 +99,7 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
       float w = 1.0f;
       if (previous_brdf_pdf > 0.0f)
         w = balance_heuristic(previous_brdf_pdf,
-                              emissive_hit_light_pdf(previous_position, s, hit.instance, direction, hit.t));
+                              emissive_hit_light_pdf(s, hit.instance, direction, hit.t));
       radiance += throughput * s.emissive * w;
     }
 
@@ -131,7 +130,6 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
     if (dot(l, ng) <= 0.0f) break;
     throughput *= brdf_eval(brdf, ns, v, l) * (max(dot(ns, l), 0.0f) / pdf);
     previous_brdf_pdf = pdf;
-    previous_position = s.position;
 
     if (bounce >= 3u) {
       float survive = min(max3(throughput), 0.95f);
