@@ -2,7 +2,7 @@
 // Lambert diffuse + GGX specular with Smith height-correlated visibility and
 // Schlick Fresnel, F0 from base colour, metallic and reflectance
 // (Filament / Bevy StandardMaterial conventions), roughness = perceptual².
-// Multiscatter energy compensation is not modelled yet (docs/ARCHITECTURE.md).
+// Multiscatter energy compensation is not modelled yet (README, "Design notes").
 #ifndef GI_SHARED_BRDF_H
 #define GI_SHARED_BRDF_H
 #include "host_device.h"
