@@ -1,0 +1,149 @@
+#include "replay/checks/reference_check.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/exr_io.h"
+#include "core/reference/reference_cache.h"
+#include "reports/json_figures.h"
+
+namespace gi {
+namespace {
+
+double number_param(const CheckSpec& spec, const Scenario& scenario, const char* key, double fallback, double lo,
+                    double hi) {
+  if (!spec.params.contains(key)) return fallback;
+  const nlohmann::json& v = spec.params[key];
+  if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
+    throw InputError(scenario.file.string(), spec.json_path + "/" + key,
+                     fmt::format("expected a number in [{}, {}]", lo, hi));
+  return v.get<double>();
+}
+
+// Per-pixel |x − y| luminance relative to y, so the map shows where the
+// error is, not only where the image is bright.
+Image error_map(const Image& x, const Image& y) {
+  Image e(x.width, x.height);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const glm::vec3 d = glm::abs(x.pixels[i] - y.pixels[i]);
+    e.pixels[i] = d / (glm::abs(y.pixels[i]) + glm::vec3(0.1f));
+  }
+  return e;
+}
+
+}  // namespace
+
+ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenario& scenario,
+                                            std::uint32_t frame_count) {
+  ReferenceCheckParams p;
+  if (spec.params.contains("frames")) {
+    const nlohmann::json& f = spec.params["frames"];
+    if (!f.is_array() || f.empty())
+      throw InputError(scenario.file.string(), spec.json_path + "/frames", "expected a non-empty array of frames");
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      if (!f[i].is_number_unsigned() || f[i].get<std::uint64_t>() >= frame_count)
+        throw InputError(scenario.file.string(), spec.json_path + "/frames/" + std::to_string(i),
+                         fmt::format("expected a frame number below the frame count {}", frame_count));
+      p.frames.push_back(f[i].get<std::uint32_t>());
+    }
+  } else {
+    p.frames.push_back(frame_count - 1);
+  }
+  p.spp = static_cast<std::uint32_t>(number_param(spec, scenario, "spp", p.spp, 2, 1 << 20));
+  p.relmse_noise_factor = number_param(spec, scenario, "relmse_noise_factor", p.relmse_noise_factor, 1.0, 100.0);
+  p.energy_tolerance = number_param(spec, scenario, "energy_tolerance", p.energy_tolerance, 0.0, 1.0);
+  p.relmse_tolerance = number_param(spec, scenario, "relmse_tolerance", p.relmse_tolerance, 0.0, 100.0);
+  return p;
+}
+
+ReferenceCheck::ReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
+                               std::filesystem::path out_dir)
+    : params_(std::move(params)), seed_(seed), cache_dir_(std::move(cache_dir)), out_dir_(std::move(out_dir)) {}
+
+bool ReferenceCheck::wants(std::uint32_t frame) const {
+  return std::find(params_.frames.begin(), params_.frames.end(), frame) != params_.frames.end();
+}
+
+void ReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const GpuEstimate& gpu) {
+  ReferenceOptions options;
+  options.width = gpu.mean.width;
+  options.height = gpu.mean.height;
+  options.spp = params_.spp;
+  options.seed = seed_;
+  bool hit = false;
+  const ReferenceResult ref = cached_reference(scene, options, cache_dir_, &hit);
+
+  FrameComparison c;
+  c.frame = frame;
+  c.comparison = compare(gpu.mean, gpu.half_a, gpu.half_b, ref.mean, ref.half_a, ref.half_b);
+  c.verdict = c.comparison.judge(params_.relmse_noise_factor, params_.energy_tolerance, params_.relmse_tolerance);
+  c.gpu_samples = gpu.samples;
+  c.reference_spp = params_.spp;
+  c.reference_seconds = ref.seconds;
+  c.reference_cached = hit;
+  c.evidence = fmt::format("reference/frame_{:05}.exr", frame);
+  const Image error = error_map(gpu.mean, ref.mean);
+  write_exr(out_dir_ / c.evidence, {{"gpu", &gpu.mean}, {"embree", &ref.mean}, {"error", &error}});
+  frames_.push_back(std::move(c));
+}
+
+CheckResult ReferenceCheck::result() const {
+  CheckResult r;
+  r.name = "reference";
+  r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
+              {"energy_tolerance", params_.energy_tolerance},
+              {"relmse_tolerance", params_.relmse_tolerance},
+              {"reference_spp", params_.spp}};
+  if (frames_.empty()) {
+    r.verdict = Verdict::inconclusive;
+    r.message = "no frame was compared";
+    return r;
+  }
+  bool any_fail = false, any_inconclusive = false;
+  nlohmann::json per_frame = nlohmann::json::array();
+  std::string first_problem;
+  for (const FrameComparison& f : frames_) {
+    const Comparison& c = f.comparison;
+    per_frame.push_back({{"frame", f.frame},
+                         {"relmse", json_figure(c.relmse)},
+                         {"noise_gpu", json_figure(c.noise_x)},
+                         {"noise_reference", json_figure(c.noise_y)},
+                         {"combined_noise", json_figure(c.combined_noise)},
+                         {"relmse_over_noise", json_figure(c.relmse_over_noise)},
+                         {"bias_relmse", json_figure(c.bias_relmse)},
+                         {"energy_ratio", json_figure(c.energy_ratio)},
+                         {"energy_ratio_sigma", json_figure(c.energy_ratio_sigma)},
+                         {"mean_abs_error", json_figure(c.mean_abs_error)},
+                         {"mean_rel_error", json_figure(c.mean_rel_error)},
+                         {"max_luminance_ratio", json_figure(c.max_luminance_ratio)},
+                         {"nonfinite_gpu", c.nonfinite_x},
+                         {"gpu_samples_per_pixel", f.gpu_samples},
+                         {"reference_spp", f.reference_spp},
+                         {"reference_seconds", json_figure(f.reference_seconds)},
+                         {"reference_cached", f.reference_cached},
+                         {"verdict", f.verdict.passed ? "pass" : (f.verdict.inconclusive ? "inconclusive" : "fail")},
+                         {"reason", f.verdict.reason}});
+    r.evidence.push_back(f.evidence);
+    if (!f.verdict.passed && first_problem.empty())
+      first_problem = fmt::format("frame {}: {}", f.frame, f.verdict.reason);
+    if (!f.verdict.passed && !f.verdict.inconclusive) {
+      if (!any_fail) r.first_failing_frame = f.frame;
+      any_fail = true;
+    }
+    if (f.verdict.inconclusive) any_inconclusive = true;
+  }
+  r.figures["frames"] = per_frame;
+  const Comparison& last = frames_.back().comparison;
+  r.verdict = any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
+  r.message = r.verdict == Verdict::pass
+                  ? fmt::format("frame {}: relMSE {:.3g} = {:.2f}x combined noise {:.3g}; energy ratio {:.4f}",
+                                frames_.back().frame, last.relmse, last.relmse_over_noise, last.combined_noise,
+                                last.energy_ratio)
+                  : first_problem;
+  return r;
+}
+
+}  // namespace gi

@@ -1,0 +1,62 @@
+// The `reference` check (DESIGN §6): the GPU image at chosen frames against
+// the Embree reference of the same scene state, with both estimators' noise.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "core/image.h"
+#include "core/metrics.h"
+#include "core/scenario.h"
+#include "core/scene.h"
+#include "replay/checks/check_result.h"
+
+namespace gi {
+
+struct ReferenceCheckParams {
+  std::vector<std::uint32_t> frames;  // default: the last frame
+  std::uint32_t spp = 1024;           // Embree samples per pixel
+  double relmse_noise_factor = 3.0;   // relMSE ≤ factor × combined noise
+  double energy_tolerance = 0.01;     // |energy ratio − 1| ≤ tolerance
+  double relmse_tolerance = 0.0;      // allowed bias in relMSE (0: none)
+};
+
+// Reads the check's parameters; InputError at <check json_path>/<key>.
+ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenario& scenario,
+                                            std::uint32_t frame_count);
+
+// The GPU side of one compared frame.
+struct GpuEstimate {
+  Image mean, half_a, half_b;
+  std::uint64_t samples = 0;  // per pixel, in the accumulation window
+};
+
+class ReferenceCheck {
+ public:
+  ReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
+                 std::filesystem::path out_dir);
+  const ReferenceCheckParams& params() const { return params_; }
+  bool wants(std::uint32_t frame) const;
+  // Renders (or loads) the Embree image of `scene` and compares; writes
+  // reference/frame_NNNNN.exr (gpu, embree, error layers) as evidence.
+  void compare_frame(std::uint32_t frame, const Scene& scene, const GpuEstimate& gpu);
+  CheckResult result() const;
+
+ private:
+  struct FrameComparison {
+    std::uint32_t frame;
+    Comparison comparison;
+    ComparisonVerdict verdict;
+    std::uint64_t gpu_samples;
+    std::uint32_t reference_spp;
+    double reference_seconds;
+    bool reference_cached;
+    std::string evidence;
+  };
+  ReferenceCheckParams params_;
+  std::uint32_t seed_;
+  std::filesystem::path cache_dir_, out_dir_;
+  std::vector<FrameComparison> frames_;
+};
+
+}  // namespace gi

@@ -1,0 +1,41 @@
+// Runs one scenario end to end: build the scene, drive the GPU pipeline frame
+// by frame applying the scenario's events, record what the checks need, run
+// the checks, write summary.json and the requested captures.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/scenario.h"
+#include "replay/checks/check_result.h"
+
+namespace gi {
+
+struct RunOptions {
+  std::optional<std::uint32_t> frames;  // --frames
+  std::optional<std::uint32_t> seed;    // --seed
+  std::optional<int> device;            // --device N
+  std::string backend = "auto";         // --backend (rayquery only for now)
+  std::vector<std::uint32_t> capture;   // --capture, added to the scenario's own
+  std::filesystem::path out_dir = "out";
+  bool quiet = false;
+};
+
+struct RunResult {
+  int exit_code = 0;  // 0 all checks passed, 1 a check failed (or was inconclusive)
+  std::vector<CheckResult> checks;
+  nlohmann::json summary;
+};
+
+// Throws InputError (exit 2) for bad scenarios and DeviceError (exit 3).
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+// Cache of SPIR-V and Embree references: $GIHARNESS_CACHE_DIR, else
+// $XDG_CACHE_HOME/giharness, else ~/.cache/giharness.
+std::filesystem::path cache_root();
+
+}  // namespace gi

@@ -1,0 +1,19 @@
+// Pieces of summary.json that every command shares: build identity and
+// per-pass timing statistics.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace gi {
+
+// Per pass: frames, mean, median, p95, min, max (ms), plus the total of the
+// means (ms/frame of the recorded passes).
+nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms);
+
+// giharness version, compiler, build type.
+nlohmann::json build_info();
+
+}  // namespace gi
