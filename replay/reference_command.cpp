@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/atomic_file.h"
+#include "core/errors.h"
 #include "core/exr_io.h"
 #include "core/metrics.h"
 #include "core/reference/reference_cache.h"
