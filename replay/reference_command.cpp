@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "core/exr_io.h"
 #include "core/metrics.h"
+#include "core/png_preview.h"
 #include "core/reference/reference_cache.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
@@ -39,7 +40,9 @@ int run_reference_command(const ReferenceCommandOptions& o) {
 
   bool hit = false;
   const ReferenceResult r = cached_reference(scene, options, cache_root() / "reference", &hit);
+  std::filesystem::create_directories(o.out_dir);
   write_exr(o.out_dir / "reference.exr", {{"", &r.mean}, {"half_a", &r.half_a}, {"half_b", &r.half_b}});
+  write_png_preview(o.out_dir / "reference.png", r.mean);
 
   const double noise = estimator_noise(r.half_a, r.half_b, r.mean);
   nlohmann::json s;
