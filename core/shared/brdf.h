@@ -49,9 +49,14 @@ GI_FN float smith_G1(float alpha, float NoV) {
   return 2.0f * NoV / (NoV + sqrt(a2 + (1.0f - a2) * NoV * NoV));
 }
 
+// Schlick with Filament's (and Bevy's) f90 = saturate(50 · 0.33 · sum(f0)):
+// reflectance below ~2% fades the grazing reflection out, so reflectance 0
+// is a pure Lambert surface (the Cornell box) instead of one that still
+// reflects up to 100% at grazing angles.
 GI_FN vec3 F_Schlick(vec3 f0, float VoH) {
+  float f90 = saturate(dot(f0, vec3(50.0f * 0.33f)));
   float f = pow(1.0f - saturate(VoH), 5.0f);
-  return f0 + (vec3(1.0f) - f0) * f;
+  return f0 + (vec3(f90) - f0) * f;
 }
 
 // Cosines below this count as grazing; keeps every division finite.

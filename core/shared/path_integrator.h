@@ -117,7 +117,18 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
     float light_pdf;
     if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
       vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
-      if (max3(f) > 0.0f && trace_unoccluded(spawn, l, dist * (1.0f - 1e-4f) - 1e-4f)) {
+      // Aim the shadow ray from the offset origin at the light point itself:
+      // the segment meets the emitter's plane only at its end, so a relative
+      // margin works at any distance from the world origin.
+      vec3 shadow_dir = l;
+      float shadow_tmax = RAY_TMAX;
+      if (dist < RAY_TMAX) {
+        vec3 to_light = s.position + l * dist - spawn;
+        float shadow_dist = length(to_light);
+        shadow_dir = to_light / shadow_dist;
+        shadow_tmax = shadow_dist * (1.0f - 1e-4f);
+      }
+      if (max3(f) > 0.0f && trace_unoccluded(spawn, shadow_dir, shadow_tmax)) {
         float w = balance_heuristic(light_pdf, brdf_pdf(brdf, ns, v, l));
         radiance += throughput * f * le * (w / light_pdf);
       }
