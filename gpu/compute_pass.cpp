@@ -1,0 +1,184 @@
+#include "gpu/compute_pass.h"
+
+#include <map>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "gpu/buffer.h"
+#include "gpu/device.h"
+#include "gpu/shaders/bindings.h"
+
+namespace gi::gpu {
+
+using namespace gi::shader;
+
+std::vector<DescriptorBinding> scene_descriptor_bindings() {
+  return {{BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},
+          {BINDING_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
+}
+
+ComputePass::ComputePass(Device& device, std::string name, std::span<const std::uint32_t> spirv,
+                         std::vector<DescriptorBinding> bindings, std::uint32_t push_constant_bytes)
+    : device_(device.handle()), name_(std::move(name)), bindings_(std::move(bindings)),
+      push_bytes_(push_constant_bytes) {
+  try {
+    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    smci.codeSize = spirv.size_bytes();
+    smci.pCode = spirv.data();
+    check_vk(vkCreateShaderModule(device_, &smci, nullptr, &module_), "vkCreateShaderModule");
+
+    std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+    std::map<VkDescriptorType, std::uint32_t> counts;
+    for (const auto& b : bindings_) {
+      VkDescriptorSetLayoutBinding lb{};
+      lb.binding = b.binding;
+      lb.descriptorType = b.type;
+      lb.descriptorCount = 1;
+      lb.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+      layout_bindings.push_back(lb);
+      ++counts[b.type];
+    }
+    VkDescriptorSetLayoutCreateInfo dslci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dslci.bindingCount = std::uint32_t(layout_bindings.size());
+    dslci.pBindings = layout_bindings.data();
+    check_vk(vkCreateDescriptorSetLayout(device_, &dslci, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = 1;
+    plci.pSetLayouts = &set_layout_;
+    plci.pushConstantRangeCount = push_bytes_ ? 1 : 0;
+    plci.pPushConstantRanges = &range;
+    check_vk(vkCreatePipelineLayout(device_, &plci, nullptr, &layout_), "vkCreatePipelineLayout");
+
+    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpci.stage.module = module_;
+    cpci.stage.pName = "main";
+    cpci.layout = layout_;
+    VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline_);
+    if (r != VK_SUCCESS)
+      throw DeviceError(fmt::format("Vulkan: pass '{}': vkCreateComputePipelines failed: {}", name_,
+                                    vk_result_name(r)));
+
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (const auto& [type, n] : counts) sizes.push_back({type, n});
+    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpci.maxSets = 1;
+    dpci.poolSizeCount = std::uint32_t(sizes.size());
+    dpci.pPoolSizes = sizes.data();
+    check_vk(vkCreateDescriptorPool(device_, &dpci, nullptr, &pool_), "vkCreateDescriptorPool");
+    VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dsai.descriptorPool = pool_;
+    dsai.descriptorSetCount = 1;
+    dsai.pSetLayouts = &set_layout_;
+    check_vk(vkAllocateDescriptorSets(device_, &dsai, &set_), "vkAllocateDescriptorSets");
+  } catch (...) {
+    destroy();
+    throw;
+  }
+}
+
+void ComputePass::destroy() noexcept {
+  if (!device_) return;
+  if (pool_) vkDestroyDescriptorPool(device_, pool_, nullptr);
+  if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+  if (module_) vkDestroyShaderModule(device_, module_, nullptr);
+  pool_ = VK_NULL_HANDLE;
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+  module_ = VK_NULL_HANDLE;
+  set_ = VK_NULL_HANDLE;
+}
+
+ComputePass::~ComputePass() { destroy(); }
+
+ComputePass::ComputePass(ComputePass&& other) noexcept { *this = std::move(other); }
+
+ComputePass& ComputePass::operator=(ComputePass&& other) noexcept {
+  if (this != &other) {
+    destroy();
+    device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+    name_ = std::move(other.name_);
+    bindings_ = std::move(other.bindings_);
+    push_bytes_ = other.push_bytes_;
+    module_ = std::exchange(other.module_, VK_NULL_HANDLE);
+    set_layout_ = std::exchange(other.set_layout_, VK_NULL_HANDLE);
+    layout_ = std::exchange(other.layout_, VK_NULL_HANDLE);
+    pipeline_ = std::exchange(other.pipeline_, VK_NULL_HANDLE);
+    pool_ = std::exchange(other.pool_, VK_NULL_HANDLE);
+    set_ = std::exchange(other.set_, VK_NULL_HANDLE);
+  }
+  return *this;
+}
+
+VkDescriptorType ComputePass::type_of(std::uint32_t binding) const {
+  for (const auto& b : bindings_)
+    if (b.binding == binding) return b.type;
+  throw DeviceError(fmt::format("pass '{}' has no binding {}", name_, binding));
+}
+
+void ComputePass::bind_buffer(std::uint32_t binding, const Buffer& buffer) {
+  VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = set_;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = type_of(binding);
+  w.pBufferInfo = &info;
+  vkUpdateDescriptorSets(device_, 1, &w, 0, nullptr);
+}
+
+void ComputePass::bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as) {
+  VkWriteDescriptorSetAccelerationStructureKHR asw{
+      VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+  asw.accelerationStructureCount = 1;
+  asw.pAccelerationStructures = &as;
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.pNext = &asw;
+  w.dstSet = set_;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = type_of(binding);
+  vkUpdateDescriptorSets(device_, 1, &w, 0, nullptr);
+}
+
+void ComputePass::bind_scene(const SceneResources& scene) {
+  bind_acceleration_structure(BINDING_TLAS, scene.tlas);
+  bind_buffer(BINDING_VERTICES, *scene.vertices);
+  bind_buffer(BINDING_INDICES, *scene.indices);
+  bind_buffer(BINDING_INSTANCES, *scene.instances);
+  bind_buffer(BINDING_MATERIALS, *scene.materials);
+  bind_buffer(BINDING_LIGHTS, *scene.lights);
+  bind_buffer(BINDING_FRAME, *scene.frame);
+}
+
+void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t gy, std::uint32_t gz,
+                           const void* push) const {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+  if (push_bytes_ && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
+  vkCmdDispatch(cmd, gx, gy, gz);
+}
+
+void compute_barrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &b, 0, nullptr, 0,
+                       nullptr);
+}
+
+}  // namespace gi::gpu

@@ -1,0 +1,79 @@
+// A compute pipeline with its descriptor set (set 0) and push constants: the
+// plumbing every pass driver in gpu/passes/ shares. Bindings are written
+// immediately (vkUpdateDescriptorSets), so bind only while the pass is idle
+// (every Renderer submission waits, so between frames is always safe).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace gi::gpu {
+
+class Buffer;
+class Device;
+
+struct DescriptorBinding {
+  std::uint32_t binding;
+  VkDescriptorType type;
+};
+
+// What scene_bindings.glsl declares (bindings 0-6 of gpu/shaders/bindings.h).
+std::vector<DescriptorBinding> scene_descriptor_bindings();
+
+// The resources behind those bindings.
+struct SceneResources {
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  const Buffer* vertices = nullptr;
+  const Buffer* indices = nullptr;
+  const Buffer* instances = nullptr;
+  const Buffer* materials = nullptr;
+  const Buffer* lights = nullptr;
+  const Buffer* frame = nullptr;  // uniform FrameConstants
+};
+
+class ComputePass {
+ public:
+  ComputePass(Device& device, std::string name, std::span<const std::uint32_t> spirv,
+              std::vector<DescriptorBinding> bindings, std::uint32_t push_constant_bytes = 0);
+  ~ComputePass();
+  ComputePass(ComputePass&& other) noexcept;
+  ComputePass& operator=(ComputePass&& other) noexcept;
+  ComputePass(const ComputePass&) = delete;
+  ComputePass& operator=(const ComputePass&) = delete;
+
+  const std::string& name() const { return name_; }
+
+  void bind_buffer(std::uint32_t binding, const Buffer& buffer);
+  void bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as);
+  void bind_scene(const SceneResources& scene);
+
+  // Binds pipeline and set, pushes `push` (push_constant_bytes of it), dispatches.
+  void dispatch(VkCommandBuffer cmd, std::uint32_t groups_x, std::uint32_t groups_y, std::uint32_t groups_z = 1,
+                const void* push = nullptr) const;
+
+ private:
+  void destroy() noexcept;
+  VkDescriptorType type_of(std::uint32_t binding) const;
+
+  VkDevice device_ = VK_NULL_HANDLE;
+  std::string name_;
+  std::vector<DescriptorBinding> bindings_;
+  std::uint32_t push_bytes_ = 0;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+// Makes compute-shader writes visible to later compute-shader reads and host reads.
+void compute_barrier(VkCommandBuffer cmd);
+
+// Workgroups needed to cover `n` items with groups of `size`.
+inline std::uint32_t group_count(std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; }
+
+}  // namespace gi::gpu

@@ -1,0 +1,93 @@
+// The Vulkan device: instance, physical-device choice (lavapipe by default,
+// DESIGN §4), one compute queue with the ray-query extensions, one command
+// pool and a submit-and-wait helper. Everything else in gpu/ borrows it.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <vulkan/vulkan.h>
+
+namespace gi::gpu {
+
+// Throws gi::DeviceError naming the call and the VkResult unless result is VK_SUCCESS.
+void check_vk(VkResult result, const char* what);
+const char* vk_result_name(VkResult result);
+
+struct DeviceInfo {
+  std::string name;            // VkPhysicalDeviceProperties::deviceName
+  std::string driver_name;     // e.g. "llvmpipe"
+  std::string driver_info;     // e.g. "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+  std::string mesa_version;    // parsed from driver_info ("25.0.7-2~bpo12+1"), empty if absent
+  std::string llvm_version;    // parsed from driver_info ("15.0.6"), empty if absent
+  std::string api_version;     // "1.3.296"
+  std::uint32_t vendor_id = 0;
+  std::uint32_t device_id = 0;
+  std::uint32_t subgroup_size = 0;
+  std::string lp_num_threads;  // env LP_NUM_THREADS (lavapipe's thread count) or "default"
+  double timestamp_period_ns = 0.0;
+  int device_index = 0;
+
+  nlohmann::json to_json() const;
+};
+
+// KHR entry points that the loader does not export (loaded with vkGetDeviceProcAddr).
+struct KhrFunctions {
+  PFN_vkCreateAccelerationStructureKHR create_acceleration_structure = nullptr;
+  PFN_vkDestroyAccelerationStructureKHR destroy_acceleration_structure = nullptr;
+  PFN_vkGetAccelerationStructureBuildSizesKHR get_acceleration_structure_build_sizes = nullptr;
+  PFN_vkCmdBuildAccelerationStructuresKHR cmd_build_acceleration_structures = nullptr;
+  PFN_vkGetAccelerationStructureDeviceAddressKHR get_acceleration_structure_device_address = nullptr;
+};
+
+class Device {
+ public:
+  // index: a physical-device index as list_devices() numbers them; without it,
+  // lavapipe ("llvmpipe") if present, else the first device with ray query.
+  // Set GIHARNESS_VALIDATION=1 to enable VK_LAYER_KHRONOS_validation (when installed).
+  explicit Device(std::optional<int> index = std::nullopt);
+  ~Device();
+  Device(Device&& other) noexcept;
+  Device& operator=(Device&& other) noexcept;
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  // "0: llvmpipe (LLVM 15.0.6, 256 bits) [ray query]" per physical device.
+  static std::vector<std::string> list_devices();
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physical_device() const { return physical_; }
+  VkDevice handle() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  std::uint32_t queue_family() const { return queue_family_; }
+  const DeviceInfo& info() const { return info_; }
+  const KhrFunctions& khr() const { return khr_; }
+  const VkPhysicalDeviceLimits& limits() const { return limits_; }
+  std::uint32_t min_scratch_offset_alignment() const { return min_scratch_alignment_; }
+  bool validation_enabled() const { return validation_; }
+
+  // Records with `record` into a fresh primary command buffer, submits it to
+  // the compute queue and waits for it to finish.
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+
+ private:
+  void destroy() noexcept;
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t queue_family_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  DeviceInfo info_;
+  KhrFunctions khr_;
+  VkPhysicalDeviceLimits limits_{};
+  std::uint32_t min_scratch_alignment_ = 256;
+  bool validation_ = false;
+};
+
+}  // namespace gi::gpu

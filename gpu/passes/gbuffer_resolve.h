@@ -1,0 +1,31 @@
+// G-buffer resolve (gpu/shaders/gbuffer_resolve.comp): visibility buffer ->
+// one GBufferTexel per pixel (gpu/shaders/gbuffer.h), motion vectors from the
+// previous camera.
+#pragma once
+#include <cstdint>
+
+#include "gpu/compute_pass.h"
+#include "gpu/shaders/gbuffer.h"
+
+namespace gi::gpu {
+
+using shader::GBufferTexel;
+static_assert(sizeof(GBufferTexel) == 96, "GBufferTexel must stay whole vec4s (std430 == C++)");
+
+class Buffer;
+class ShaderCompiler;
+
+class GBufferResolve {
+ public:
+  static constexpr const char* kShader = "gpu/shaders/gbuffer_resolve.comp";
+
+  GBufferResolve(Device& device, ShaderCompiler& compiler);
+  // visibility/depth as PrimaryVisibility writes them; gbuffer: GBufferTexel per pixel.
+  void bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth, const Buffer& gbuffer);
+  void record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height) const;
+
+ private:
+  ComputePass pass_;
+};
+
+}  // namespace gi::gpu

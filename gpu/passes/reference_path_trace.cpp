@@ -1,0 +1,43 @@
+#include "gpu/passes/reference_path_trace.h"
+
+#include <string>
+
+#include "gpu/buffer.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/shaders/bindings.h"
+
+namespace gi::gpu {
+
+using namespace gi::shader;
+
+namespace {
+
+ComputePass make_pass(Device& device, ShaderCompiler& compiler, const ReferencePathTraceOptions& options) {
+  std::vector<DescriptorBinding> bindings = scene_descriptor_bindings();
+  bindings.push_back({BINDING_REFERENCE_A, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  bindings.push_back({BINDING_REFERENCE_B, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  bindings.push_back({BINDING_REFERENCE_NONFINITE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  const std::vector<ShaderDefine> defines = {{"REFERENCE_MAX_BOUNCES", std::to_string(options.max_bounces) + "u"}};
+  return ComputePass(device, "reference_path_trace", compiler.compile_file(ReferencePathTrace::kShader, defines).spirv,
+                     std::move(bindings));
+}
+
+}  // namespace
+
+ReferencePathTrace::ReferencePathTrace(Device& device, ShaderCompiler& compiler,
+                                       const ReferencePathTraceOptions& options)
+    : pass_(make_pass(device, compiler, options)) {}
+
+void ReferencePathTrace::bind(const SceneResources& scene, const Buffer& half_a, const Buffer& half_b,
+                              const Buffer& nonfinite) {
+  pass_.bind_scene(scene);
+  pass_.bind_buffer(BINDING_REFERENCE_A, half_a);
+  pass_.bind_buffer(BINDING_REFERENCE_B, half_b);
+  pass_.bind_buffer(BINDING_REFERENCE_NONFINITE, nonfinite);
+}
+
+void ReferencePathTrace::record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height) const {
+  pass_.dispatch(cmd, group_count(width, RAY_WORKGROUP_X), group_count(height, RAY_WORKGROUP_Y));
+}
+
+}  // namespace gi::gpu

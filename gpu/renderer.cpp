@@ -1,0 +1,192 @@
+#include "gpu/renderer.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "gpu/device.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/shaders/bindings.h"
+
+namespace gi::gpu {
+
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+Buffer make_geometry_buffer(Device& device, const void* data, std::size_t bytes, const char* name) {
+  Buffer b(device, bytes, AccelerationStructures::geometry_buffer_usage(), name);
+  b.upload_bytes(data, bytes);
+  return b;
+}
+
+}  // namespace
+
+Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry,
+                   const RendererOptions& options)
+    : device_(device),
+      options_(options),
+      vertices_(make_geometry_buffer(device, geometry.vertices.data(), geometry.vertices.size() * sizeof(GpuVertex),
+                                     "vertices")),
+      indices_(make_geometry_buffer(device, geometry.indices.data(),
+                                    geometry.indices.size() * sizeof(std::uint32_t), "indices")),
+      as_(device, geometry, vertices_, indices_),
+      frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants"),
+      timer_(device) {
+  if (options.width == 0 || options.height == 0)
+    throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));
+  const std::size_t pixels = pixel_count();
+  if (options_.gbuffer) {
+    visibility_ = Buffer(device, pixels * sizeof(glm::uvec2), kStorage, "visibility");
+    depth_ = Buffer(device, pixels * sizeof(float), kStorage, "depth");
+    gbuffer_ = Buffer(device, pixels * sizeof(GBufferTexel), kStorage, "gbuffer");
+    primary_visibility_.emplace(device, compiler);
+    gbuffer_resolve_.emplace(device, compiler);
+  }
+  if (options_.reference) {
+    reference_a_ = Buffer(device, pixels * sizeof(glm::vec4), kStorage, "reference A");
+    reference_b_ = Buffer(device, pixels * sizeof(glm::vec4), kStorage, "reference B");
+    nonfinite_ = Buffer(device, sizeof(std::uint32_t), kStorage, "reference non-finite count");
+    reset_accumulation();
+    reference_path_trace_.emplace(device, compiler);
+  }
+}
+
+Renderer::~Renderer() { vkDeviceWaitIdle(device_.handle()); }
+
+void Renderer::ensure_buffer(Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* name) {
+  if (buffer && buffer.size() >= bytes) return;
+  buffer = Buffer(device_, std::max<VkDeviceSize>(bytes, 16), usage, name);
+  bindings_dirty_ = true;
+}
+
+void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>& visible) {
+  ensure_buffer(instances_, scene.instances.size() * sizeof(GpuInstance), kStorage, "instances");
+  ensure_buffer(materials_, scene.materials.size() * sizeof(GpuMaterial), kStorage, "materials");
+  ensure_buffer(lights_, scene.lights.size() * sizeof(GpuLight), kStorage, "lights");
+  instances_.upload(scene.instances);
+  materials_.upload(scene.materials);
+  lights_.upload(scene.lights);
+  as_.update(scene.instances, visible);
+  if (as_.take_tlas_handle_changed()) bindings_dirty_ = true;
+  scene_uploaded_ = true;
+}
+
+void Renderer::bind_passes() {
+  SceneResources scene{as_.tlas(), &vertices_, &indices_, &instances_, &materials_, &lights_, &frame_};
+  if (primary_visibility_) primary_visibility_->bind(scene, visibility_, depth_);
+  if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_);
+  if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
+  bindings_dirty_ = false;
+}
+
+void Renderer::render_frame(const FrameConstants& frame) {
+  if (!scene_uploaded_) throw DeviceError("Renderer::render_frame before update_scene");
+  if (frame.resolution_frame.x != options_.width || frame.resolution_frame.y != options_.height)
+    throw DeviceError(fmt::format("Renderer::render_frame: frame constants say {}x{}, the renderer is {}x{}",
+                                  frame.resolution_frame.x, frame.resolution_frame.y, options_.width,
+                                  options_.height));
+  frame_.upload_bytes(&frame, sizeof frame);
+  if (bindings_dirty_) bind_passes();
+  const std::uint32_t w = options_.width, h = options_.height;
+  device_.submit_and_wait([&](VkCommandBuffer cmd) {
+    timer_.begin_frame(cmd);
+    auto run = [&](const char* name, const auto& pass) {
+      timer_.begin(cmd, name);
+      pass.record(cmd, w, h);
+      timer_.end(cmd);
+      compute_barrier(cmd);
+    };
+    if (primary_visibility_) run("primary_visibility", *primary_visibility_);
+    if (gbuffer_resolve_) run("gbuffer_resolve", *gbuffer_resolve_);
+    if (reference_path_trace_) run("reference_path_trace", *reference_path_trace_);
+  });
+  timer_.resolve();
+}
+
+void Renderer::require(bool enabled, const char* what) const {
+  if (!enabled) throw DeviceError(fmt::format("Renderer: {} is not enabled in RendererOptions", what));
+}
+
+void Renderer::reset_accumulation() {
+  if (!options_.reference) return;
+  reference_a_.fill_zero();
+  reference_b_.fill_zero();
+  nonfinite_.fill_zero();
+}
+
+Image Renderer::reference_mean() const {
+  require(options_.reference, "the reference");
+  const auto a = reference_a_.download<glm::vec4>(pixel_count());
+  const auto b = reference_b_.download<glm::vec4>(pixel_count());
+  Image img(options_.width, options_.height);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const float n = a[i].w + b[i].w;
+    img.pixels[i] = n > 0.0f ? (glm::vec3(a[i]) + glm::vec3(b[i])) / n : glm::vec3(0.0f);
+  }
+  return img;
+}
+
+Image Renderer::reference_half(int which) const {
+  require(options_.reference, "the reference");
+  if (which != 0 && which != 1) throw std::invalid_argument("reference_half: which must be 0 (A) or 1 (B)");
+  const auto h = reference_sums(which);
+  Image img(options_.width, options_.height);
+  for (std::size_t i = 0; i < h.size(); ++i) img.pixels[i] = h[i].w > 0.0f ? glm::vec3(h[i]) / h[i].w : glm::vec3(0.0f);
+  return img;
+}
+
+std::vector<glm::vec4> Renderer::reference_sums(int which) const {
+  require(options_.reference, "the reference");
+  if (which != 0 && which != 1) throw std::invalid_argument("reference_sums: which must be 0 (A) or 1 (B)");
+  return (which == 0 ? reference_a_ : reference_b_).download<glm::vec4>(pixel_count());
+}
+
+std::uint64_t Renderer::reference_nonfinite_samples() const {
+  require(options_.reference, "the reference");
+  return nonfinite_.download<std::uint32_t>(1)[0];
+}
+
+const std::vector<std::string>& Renderer::gbuffer_layer_names() {
+  static const std::vector<std::string> names = {"albedo",   "normal", "geometric_normal", "depth",
+                                                 "motion",   "position", "emissive",       "material"};
+  return names;
+}
+
+Image Renderer::gbuffer_layer(const std::string& name) const {
+  require(options_.gbuffer, "the G-buffer");
+  const auto texels = gbuffer_.download<GBufferTexel>(pixel_count());
+  Image img(options_.width, options_.height);
+  for (std::size_t i = 0; i < texels.size(); ++i) {
+    const GBufferTexel& t = texels[i];
+    glm::vec3& o = img.pixels[i];
+    if (name == "albedo") o = glm::vec3(t.base_color_metallic);
+    else if (name == "normal") o = glm::vec3(t.shading_normal);
+    else if (name == "geometric_normal") o = glm::vec3(t.geometric_normal);
+    else if (name == "depth") o = glm::vec3(t.position_depth.w);
+    else if (name == "motion") o = glm::vec3(t.motion_reflectance.x, t.motion_reflectance.y, t.motion_reflectance.z);
+    else if (name == "position") o = glm::vec3(t.position_depth);
+    else if (name == "emissive") o = glm::vec3(t.emissive_roughness);
+    else if (name == "material")
+      o = glm::vec3(t.base_color_metallic.w, t.emissive_roughness.w, t.motion_reflectance.w);
+    else {
+      std::string known;
+      for (const auto& n : gbuffer_layer_names()) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument(fmt::format("unknown G-buffer layer '{}' (known: {})", name, known));
+    }
+  }
+  return img;
+}
+
+std::vector<glm::uvec2> Renderer::visibility() const {
+  require(options_.gbuffer, "primary visibility (RendererOptions::gbuffer)");
+  return visibility_.download<glm::uvec2>(pixel_count());
+}
+
+std::vector<float> Renderer::depth() const {
+  require(options_.gbuffer, "primary visibility (RendererOptions::gbuffer)");
+  return depth_.download<float>(pixel_count());
+}
+
+}  // namespace gi::gpu

@@ -1,0 +1,94 @@
+// The facade the frame loop uses: owns the scene's GPU buffers, the
+// acceleration structures, the enabled passes and their outputs. Only the
+// passes the options enable are compiled (a scenario compiles only what it uses).
+//
+// Per frame: update_scene (uploads; TLAS rebuilt only when needed), then
+// render_frame (records, submits and waits for the enabled passes, each
+// bracketed by GPU timestamps), then read back what the checks need.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "core/scene_flatten.h"
+#include "gpu/acceleration_structures.h"
+#include "gpu/buffer.h"
+#include "gpu/passes/gbuffer_resolve.h"
+#include "gpu/passes/primary_visibility.h"
+#include "gpu/passes/reference_path_trace.h"
+#include "gpu/timer.h"
+
+namespace gi::gpu {
+
+class Device;
+class ShaderCompiler;
+
+struct RendererOptions {
+  std::uint32_t width = 0, height = 0;
+  bool gbuffer = true;    // primary visibility + G-buffer resolve
+  bool reference = true;  // GPU reference path tracer (accumulating)
+};
+
+class Renderer {
+ public:
+  Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry, const RendererOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Uploads instances, materials and lights; rebuilds the TLAS only when a
+  // visible instance's transform or the visible set changed. visible[i] is
+  // instance i's visibility (a missing entry = visible).
+  void update_scene(const FlatInstances& instances, const std::vector<bool>& visible);
+  // Records, submits and waits: visibility, G-buffer, reference (each only if
+  // enabled), with timestamps. frame.resolution_frame.xy must match the options.
+  void render_frame(const FrameConstants& frame);
+  // Zeroes the reference halves and the non-finite counter.
+  void reset_accumulation();
+
+  Image reference_mean() const;             // (A + B) / (nA + nB)
+  Image reference_half(int which) const;    // 0 = A (even sample indices), 1 = B (odd), each its own mean
+  std::uint64_t reference_nonfinite_samples() const;  // since the last reset
+  // The raw accumulation buffer of half 0 (A) or 1 (B): rgb sum, w sample count per pixel.
+  std::vector<glm::vec4> reference_sums(int which) const;
+  // "albedo", "normal" (shading), "geometric_normal", "depth" (hit t, 0 = miss),
+  // "motion" (xy pixels to the previous frame's position, z 1 if valid),
+  // "position", "emissive", "material" (metallic, perceptual roughness, reflectance).
+  Image gbuffer_layer(const std::string& name) const;
+  static const std::vector<std::string>& gbuffer_layer_names();
+  // Raw primary visibility: (instance, primitive) per pixel, row-major from the
+  // top left; (VISIBILITY_MISS, VISIBILITY_MISS) on a miss. Depth: hit t (0 on a miss).
+  std::vector<glm::uvec2> visibility() const;
+  std::vector<float> depth() const;
+
+  const std::vector<PassTiming>& last_timings() const { return timer_.timings(); }
+  std::uint32_t tlas_builds() const { return as_.tlas_builds(); }
+  const RendererOptions& options() const { return options_; }
+
+ private:
+  void ensure_buffer(Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* name);
+  void bind_passes();
+  std::size_t pixel_count() const { return std::size_t(options_.width) * options_.height; }
+  void require(bool enabled, const char* what) const;
+
+  Device& device_;
+  RendererOptions options_;
+  Buffer vertices_, indices_;
+  AccelerationStructures as_;
+  Buffer instances_, materials_, lights_, frame_;
+  Buffer visibility_, depth_, gbuffer_;
+  Buffer reference_a_, reference_b_, nonfinite_;
+  std::optional<PrimaryVisibility> primary_visibility_;
+  std::optional<GBufferResolve> gbuffer_resolve_;
+  std::optional<ReferencePathTrace> reference_path_trace_;
+  GpuTimer timer_;
+  bool scene_uploaded_ = false;
+  bool bindings_dirty_ = true;
+};
+
+}  // namespace gi::gpu

@@ -1,0 +1,66 @@
+// GLSL -> SPIR-V at run time (glslang), Vulkan 1.2 / SPIR-V 1.4, with defines
+// and #include, cached on disk. A scenario compiles only the passes it uses,
+// each with the defines it needs (Falcor-style programs from define lists).
+//
+// Includes (GL_GOOGLE_include_directive, enabled for every shader) resolve
+// relative to the including file, then to the project root, so a shader can
+// write #include "core/shared/brdf.h".
+//
+// Cache: <cache_dir>/spirv/<XXH3-64 hex>.spv, keyed by the compiler version,
+// the defines and the fully resolved source (the main file and the content of
+// every file it includes, recursively). Files are written under a temporary
+// name and renamed into place, so concurrent runs never read half a file.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gi::gpu {
+
+struct ShaderDefine {
+  std::string name;
+  std::string value;  // "#define name value"; may be empty
+};
+
+struct CompiledShader {
+  std::string name;                  // the file as the compiler names it in messages
+  std::vector<std::uint32_t> spirv;
+  std::uint64_t key = 0;             // the cache key
+  bool cache_hit = false;
+};
+
+class ShaderCompiler {
+ public:
+  // cache_dir: without it, default_cache_dir().
+  explicit ShaderCompiler(std::optional<std::filesystem::path> cache_dir = std::nullopt);
+  ~ShaderCompiler();
+  ShaderCompiler(const ShaderCompiler&) = delete;
+  ShaderCompiler& operator=(const ShaderCompiler&) = delete;
+
+  // env GIHARNESS_CACHE_DIR, else $XDG_CACHE_HOME/giharness, else ~/.cache/giharness.
+  static std::filesystem::path default_cache_dir();
+  // glslang's version and the targets; part of every cache key.
+  static std::string compiler_version();
+
+  // A compute shader file; a relative path is taken from the project root
+  // (GIHARNESS_SOURCE_DIR), e.g. "gpu/shaders/primary_visibility.comp".
+  // Throws DeviceError with glslang's log and the defines on a compile error.
+  CompiledShader compile_file(const std::filesystem::path& path, const std::vector<ShaderDefine>& defines = {});
+  // The same for source text; `name` (relative to the project root) anchors
+  // its relative includes and names it in messages.
+  CompiledShader compile_source(const std::string& source, const std::string& name,
+                                const std::vector<ShaderDefine>& defines = {});
+
+  const std::filesystem::path& cache_dir() const { return cache_dir_; }  // holds spirv/
+  std::uint64_t cache_hits() const { return hits_; }
+  std::uint64_t cache_misses() const { return misses_; }
+
+ private:
+  std::filesystem::path cache_dir_;
+  std::uint64_t hits_ = 0;
+  std::uint64_t misses_ = 0;
+};
+
+}  // namespace gi::gpu

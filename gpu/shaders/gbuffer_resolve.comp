@@ -1,0 +1,71 @@
+// G-buffer resolve: rebuilds each pixel's surface from the visibility buffer
+// (surface_at() in core/shared/scene_access.h, barycentrics recomputed from
+// the camera ray) and writes a GBufferTexel (gpu/shaders/gbuffer.h).
+//
+// Motion vectors project the point with previous_camera only: instance
+// motion (last frame's transforms) is ignored for now, so moving objects get
+// the camera's motion alone.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#define SCENE_BINDINGS_NO_INTEGRATOR
+#include "gpu/shaders/scene_bindings.glsl"
+#include "gpu/shaders/gbuffer.h"
+
+layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
+
+layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uvec2 visibility[]; };
+layout(std430, set = 0, binding = BINDING_DEPTH) readonly buffer Depth { float depth[]; };
+layout(std430, set = 0, binding = BINDING_GBUFFER) writeonly buffer GBuffer { GBufferTexel gbuffer[]; };
+
+// Barycentrics (u, v) of the ray's intersection with triangle (p0, p1, p2)
+// (Möller–Trumbore without the range tests: the hit is known).
+vec2 ray_barycentrics(vec3 o, vec3 d, vec3 p0, vec3 p1, vec3 p2) {
+  vec3 e1 = p1 - p0;
+  vec3 e2 = p2 - p0;
+  vec3 pv = cross(d, e2);
+  float det = dot(e1, pv);
+  if (abs(det) < 1e-30) return vec2(1.0 / 3.0);
+  float inv = 1.0 / det;
+  vec3 tv = o - p0;
+  vec3 qv = cross(tv, e1);
+  return vec2(dot(tv, pv) * inv, dot(d, qv) * inv);
+}
+
+void main() {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(pixel, resolution))) return;
+  uint index = pixel.y * resolution.x + pixel.x;
+
+  GBufferTexel g;
+  g.position_depth = vec4(0.0);
+  g.geometric_normal = vec4(0.0);
+  g.shading_normal = vec4(0.0);
+  g.base_color_metallic = vec4(0.0);
+  g.emissive_roughness = vec4(0.0);
+  g.motion_reflectance = vec4(0.0);
+
+  uvec2 vis = visibility[index];
+  if (vis.x != VISIBILITY_MISS) {
+    vec3 origin = vec3(frame.camera.position);
+    vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
+    GpuInstance inst = scene_instance(vis.x);
+    uint base = inst.first_index + 3u * vis.y;
+    vec3 p0 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base)).position);
+    vec3 p1 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 1u)).position);
+    vec3 p2 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 2u)).position);
+    SurfacePoint s = surface_at(vis.x, vis.y, ray_barycentrics(origin, dir, p0, p1, p2));
+    GpuMaterial m = scene_material(s.material);
+
+    g.position_depth = vec4(s.position, depth[index]);
+    g.geometric_normal = vec4(s.geometric_normal, 1.0);
+    g.shading_normal = vec4(s.shading_normal, 0.0);
+    g.base_color_metallic = m.base_color_metallic;
+    g.emissive_roughness = vec4(s.emissive, m.emissive_perceptual_roughness.w);
+    vec2 previous;
+    bool valid = camera_project(frame.previous_camera, s.position, resolution, previous);
+    vec2 motion = valid ? previous - (vec2(pixel) + vec2(0.5)) : vec2(0.0);
+    g.motion_reflectance = vec4(motion, valid ? 1.0 : 0.0, m.reflectance.x);
+  }
+  gbuffer[index] = g;
+}
