@@ -94,21 +94,23 @@ void apply(State& st, const Scene& initial, const Scenario& s, const Event& e, s
     }
     case EventType::CameraKeyframes: {
       const std::vector<CameraKey>& k = e.keys;
-      const float cur_fov = st.camera.vertical_fov_degrees;
+      // A key without a field of view carries the previous key's (the first
+      // ones: the camera's current one).
+      std::vector<float> fov(k.size());
+      for (std::size_t i = 0; i < k.size(); ++i)
+        fov[i] = k[i].fov_y_degrees.value_or(i ? fov[i - 1] : st.camera.vertical_fov_degrees);
       if (frame <= k.front().frame) {
-        set_camera_pose(st.camera, k.front().position, k.front().target, k.front().fov_y_degrees);
+        set_camera_pose(st.camera, k.front().position, k.front().target, fov.front());
       } else if (frame >= k.back().frame) {
-        set_camera_pose(st.camera, k.back().position, k.back().target, k.back().fov_y_degrees);
+        set_camera_pose(st.camera, k.back().position, k.back().target, fov.back());
       } else {
         std::size_t j = 1;
         while (k[j].frame <= frame) ++j;  // k[j-1].frame <= frame < k[j].frame
         const CameraKey& a = k[j - 1];
         const CameraKey& b = k[j];
         const float u = static_cast<float>(static_cast<double>(frame - a.frame) / static_cast<double>(b.frame - a.frame));
-        std::optional<float> fov;
-        if (a.fov_y_degrees || b.fov_y_degrees)
-          fov = lerp_to(a.fov_y_degrees.value_or(cur_fov), b.fov_y_degrees.value_or(cur_fov), u);
-        set_camera_pose(st.camera, lerp_to(a.position, b.position, u), lerp_to(a.target, b.target, u), fov);
+        set_camera_pose(st.camera, lerp_to(a.position, b.position, u), lerp_to(a.target, b.target, u),
+                        lerp_to(fov[j - 1], fov[j], u));
       }
       break;
     }

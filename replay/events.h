@@ -23,7 +23,8 @@
 //  - material: each given field = mix(current, target, t), same "current".
 //  - camera_keyframes: governs the camera from frame 0 (holds its first key
 //    before it, its last key after it), piecewise linear between keys; a key
-//    without fov_y_degrees uses the current field of view. camera_sweep:
+//    without fov_y_degrees carries the previous key's (before any key has
+//    one: the camera's field of view under the earlier events). camera_sweep:
 //    from its first frame on, mix(from, to, ease(t)), ease = t or smoothstep;
 //    holds "to" after its last frame. The camera event started last wins
 //    (ties: the later in the file). "up" is never changed by events.

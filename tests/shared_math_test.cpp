@@ -284,13 +284,10 @@ TEST(SharedBrdf, PdfIntegratesToAtMostOne) {
   }
 }
 
-// White furnace. The shared BRDF has no purely diffuse material: even with
-// reflectance 0 (f0 = 0) Schlick's grazing term (1 − v·h)^5 leaves a specular
-// lobe. So the furnace is run on the Lambert part with the mixture sampler the
-// renderer uses: for a white Lambert lobe f = 1/pi, E[f cos / pdf] over
-// brdf_sample's directions is its albedo, 1 (tolerance 5 standard errors).
-// The full BRDF's albedo is then checked to be ≥ 1 (the specular term only adds)
-// and ≈ 1 head-on (it is 1.04 at n·v = 0.01 for roughness 1; 1.19 for 0.5).
+// White furnace. A white material with reflectance 0 is pure Lambert (Filament's
+// f90 fades Schlick's grazing term out), so the estimator f cos / pdf over
+// brdf_sample's directions averages to its albedo, 1, at every view angle
+// (tolerance 5 standard errors); the Lambert part alone likewise.
 TEST(SharedBrdf, WhiteFurnaceDiffuse) {
   const vec3 n = normalize(vec3(0.2f, -0.3f, 0.9f));
   for (float roughness : {1.0f, 0.5f}) {
@@ -314,10 +311,7 @@ TEST(SharedBrdf, WhiteFurnaceDiffuse) {
         full.add(double(w.x));
       }
       EXPECT_NEAR(lambert.mean(), 1.0, 5.0 * lambert.standard_error() + 1e-5);
-      EXPECT_GE(full.mean(), 1.0 - 5.0 * full.standard_error());
-      if (NoV == 1.0f) {
-        EXPECT_NEAR(full.mean(), 1.0, 5.0 * full.standard_error() + 1e-3);
-      }
+      EXPECT_NEAR(full.mean(), 1.0, 5.0 * full.standard_error() + 1e-5);
     }
   }
 }

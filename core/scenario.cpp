@@ -1,0 +1,509 @@
+#include "core/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace gi {
+
+using nlohmann::json;
+
+const char* to_string(EventType type) {
+  switch (type) {
+    case EventType::LightOn: return "light_on";
+    case EventType::LightOff: return "light_off";
+    case EventType::LightIntensity: return "light_intensity";
+    case EventType::LightColor: return "light_color";
+    case EventType::CameraKeyframes: return "camera_keyframes";
+    case EventType::CameraSweep: return "camera_sweep";
+    case EventType::Spawn: return "spawn";
+    case EventType::Despawn: return "despawn";
+    case EventType::Transform: return "transform";
+    case EventType::Material: return "material";
+  }
+  return "?";
+}
+
+std::string json_pointer_token(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+const ScenarioKeys& scenario_keys() {
+  static const ScenarioKeys keys = [] {
+    ScenarioKeys k;
+    k.top_level = {"$schema", "name", "description", "scene", "resolution", "frames", "seed", "profile",
+                   "overrides", "mode", "samples_per_frame", "camera", "events", "checks", "capture"};
+    k.required_top_level = {"name", "scene", "resolution", "frames"};
+    k.scene_keys = {"generator", "params", "gltf"};
+    k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
+    k.modes = {"reference", "realtime"};
+    k.profiles = {"solari-0.17", "solari-0.18"};
+    k.event_types = {"light_on", "light_off", "light_intensity", "light_color", "camera_keyframes",
+                     "camera_sweep", "spawn", "despawn", "transform", "material"};
+    k.event_keys = {
+        {"light_on", {"type", "frame", "light"}},
+        {"light_off", {"type", "frame", "light"}},
+        {"light_intensity", {"type", "frame", "frames", "light", "scale"}},
+        {"light_color", {"type", "frame", "frames", "light", "color"}},
+        {"camera_keyframes", {"type", "keys"}},
+        {"camera_sweep", {"type", "frames", "from", "to", "ease"}},
+        {"spawn", {"type", "frame", "instance", "of", "mesh", "translation", "rotation_degrees", "scale"}},
+        {"despawn", {"type", "frame", "instance"}},
+        {"transform", {"type", "frame", "frames", "instance", "translation", "rotation_degrees", "scale"}},
+        {"material",
+         {"type", "frame", "frames", "material", "base_color", "metallic", "perceptual_roughness", "reflectance",
+          "emissive"}},
+    };
+    k.camera_key_keys = {"frame", "position", "target", "fov_y_degrees"};
+    k.camera_pose_keys = {"position", "target", "fov_y_degrees"};
+    k.mesh_generator_keys = {"generator", "params"};
+    k.check_names = {"reference", "finite", "determinism", "cache_lifetime", "blend_lag", "jacobian", "cluster_ids"};
+    k.check_keys = {
+        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "spp"}},
+        {"finite", {"name"}},
+    };
+    k.cornell_box_params = {"light_scale", "albedo_scale", "blocks"};
+    return k;
+  }();
+  return keys;
+}
+
+bool Scenario::has_check(const std::string& n) const { return find_check(n) != nullptr; }
+
+const CheckSpec* Scenario::find_check(const std::string& n) const {
+  for (const CheckSpec& c : checks)
+    if (c.name == n) return &c;
+  return nullptr;
+}
+
+std::vector<std::size_t> event_order(const Scenario& s) {
+  std::vector<std::size_t> order(s.events.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return s.events[a].first < s.events[b].first; });
+  return order;
+}
+
+namespace {
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
+  return out;
+}
+
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+// A short rendering of a value for "got …".
+std::string got(const json& j) {
+  std::string d = j.dump();
+  if (d.size() > 60) d = d.substr(0, 57) + "...";
+  const char* t = j.is_string() ? "string" : j.is_boolean() ? "boolean" : j.is_number() ? "number"
+                  : j.is_array() ? "array" : j.is_object() ? "object" : "null";
+  return fmt::format("got {} {}", t, d);
+}
+
+// Reads values while knowing where they are: every failure names the file and
+// the JSON Pointer.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& expected) const {
+    throw InputError(file_, path, expected);
+  }
+
+  static std::string at(const std::string& path, const std::string& key) {
+    return path + "/" + json_pointer_token(key);
+  }
+  static std::string at(const std::string& path, std::size_t i) { return path + "/" + std::to_string(i); }
+
+  // An object with only `allowed` keys and every `required` one.
+  void object(const json& j, const std::string& path, const std::vector<std::string>& allowed,
+              const std::vector<std::string>& required = {}) const {
+    if (!j.is_object()) fail(path, "expected an object, " + got(j));
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!contains(allowed, it.key()))
+        fail(at(path, it.key()), fmt::format("unknown key \"{}\"; expected one of: {}", it.key(), join(allowed)));
+    for (const std::string& r : required)
+      if (!j.contains(r)) fail(at(path, r), fmt::format("missing required key \"{}\"", r));
+  }
+
+  std::string string(const json& j, const std::string& path, bool non_empty = true) const {
+    if (!j.is_string()) fail(path, "expected a string, " + got(j));
+    std::string s = j.get<std::string>();
+    if (non_empty && s.empty()) fail(path, "expected a non-empty string");
+    return s;
+  }
+
+  std::string one_of(const json& j, const std::string& path, const std::vector<std::string>& options) const {
+    if (!j.is_string()) fail(path, fmt::format("expected one of {}, {}", join(options), got(j)));
+    std::string s = j.get<std::string>();
+    if (!contains(options, s)) fail(path, fmt::format("expected one of {}, got \"{}\"", join(options), s));
+    return s;
+  }
+
+  bool boolean(const json& j, const std::string& path) const {
+    if (!j.is_boolean()) fail(path, "expected true or false, " + got(j));
+    return j.get<bool>();
+  }
+
+  std::uint32_t uint(const json& j, const std::string& path, std::uint64_t lo, std::uint64_t hi) const {
+    const std::string range = fmt::format("an integer in {}..{}", lo, hi);
+    if (j.is_number_unsigned() || (j.is_number_integer() && j.get<std::int64_t>() >= 0)) {
+      std::uint64_t v = j.get<std::uint64_t>();
+      if (v < lo || v > hi) fail(path, fmt::format("expected {}, got {}", range, v));
+      return static_cast<std::uint32_t>(v);
+    }
+    if (j.is_number_integer()) fail(path, fmt::format("expected {}, got {}", range, j.get<std::int64_t>()));
+    fail(path, fmt::format("expected {}, {}", range, got(j)));
+  }
+
+  float number(const json& j, const std::string& path, double lo, double hi) const {
+    if (!j.is_number()) fail(path, fmt::format("expected a number in [{}, {}], {}", lo, hi, got(j)));
+    double v = j.get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi) fail(path, fmt::format("expected a number in [{}, {}], got {}", lo, hi, v));
+    return static_cast<float>(v);
+  }
+
+  glm::vec3 vec3(const json& j, const std::string& path, double lo, double hi) const {
+    if (!j.is_array() || j.size() != 3)
+      fail(path, fmt::format("expected an array of 3 numbers in [{}, {}], {}", lo, hi, got(j)));
+    return glm::vec3(number(j[0], at(path, 0), lo, hi), number(j[1], at(path, 1), lo, hi),
+                     number(j[2], at(path, 2), lo, hi));
+  }
+
+  const json& array(const json& j, const std::string& path, std::size_t min_items = 0) const {
+    if (!j.is_array()) fail(path, "expected an array, " + got(j));
+    if (j.size() < min_items) fail(path, fmt::format("expected an array of at least {} item(s)", min_items));
+    return j;
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+// Ranges shared with the schema.
+constexpr double kMaxCoordinate = 1e6;    // metres
+constexpr double kMaxDegrees = 36000.0;   // rotations (ranged spins may turn many times)
+constexpr double kMinScale = 1e-6, kMaxScale = 1e6;
+constexpr double kMaxIntensity = 1e9;     // light scales and emission
+constexpr double kMaxColor = 1e6;
+
+const std::string kNamePattern = "[a-z0-9_-]+";
+
+bool valid_name(const std::string& s) {
+  if (s.empty()) return false;
+  for (char c : s)
+    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-')) return false;
+  return true;
+}
+
+float fov(const Reader& r, const json& j, const std::string& path) { return r.number(j, path, 1.0, 179.0); }
+
+CameraPose parse_pose(const Reader& r, const json& j, const std::string& path) {
+  r.object(j, path, scenario_keys().camera_pose_keys, {"position", "target"});
+  CameraPose p;
+  p.position = r.vec3(j["position"], path + "/position", -kMaxCoordinate, kMaxCoordinate);
+  p.target = r.vec3(j["target"], path + "/target", -kMaxCoordinate, kMaxCoordinate);
+  if (p.position == p.target) r.fail(path + "/target", "expected a target different from the position");
+  if (j.contains("fov_y_degrees")) p.fov_y_degrees = fov(r, j["fov_y_degrees"], path + "/fov_y_degrees");
+  return p;
+}
+
+glm::vec3 parse_scale(const Reader& r, const json& j, const std::string& path) {
+  if (j.is_number()) return glm::vec3(r.number(j, path, kMinScale, kMaxScale));
+  if (j.is_array()) return r.vec3(j, path, kMinScale, kMaxScale);
+  r.fail(path, fmt::format("expected a number in [{}, {}] or an array of 3 such numbers, {}", kMinScale, kMaxScale, got(j)));
+}
+
+Event parse_event(const Reader& r, const json& j, std::size_t index) {
+  const ScenarioKeys& K = scenario_keys();
+  const std::string path = Reader::at("/events", index);
+  if (!j.is_object()) r.fail(path, "expected an event object, " + got(j));
+  if (!j.contains("type")) r.fail(path + "/type", fmt::format("missing required key \"type\" (one of {})", join(K.event_types)));
+  const std::string type = r.one_of(j["type"], path + "/type", K.event_types);
+  const std::vector<std::string>& allowed = K.event_keys.at(type);
+
+  Event e;
+  e.type = static_cast<EventType>(std::find(K.event_types.begin(), K.event_types.end(), type) - K.event_types.begin());
+  e.index = index;
+  e.json_path = path;
+
+  // The event's own required keys (the frame keys are handled below).
+  std::vector<std::string> required;
+  switch (e.type) {
+    case EventType::LightOn: case EventType::LightOff: required = {"light"}; break;
+    case EventType::LightIntensity: required = {"light", "scale"}; break;
+    case EventType::LightColor: required = {"light", "color"}; break;
+    case EventType::CameraKeyframes: required = {"keys"}; break;
+    case EventType::CameraSweep: required = {"frames", "from", "to"}; break;
+    case EventType::Spawn: case EventType::Despawn: case EventType::Transform: required = {"instance"}; break;
+    case EventType::Material: required = {"material"}; break;
+  }
+  r.object(j, path, allowed, required);
+
+  // When: "frame" or "frames": [first, last].
+  const bool may_frame = contains(allowed, "frame"), may_frames = contains(allowed, "frames");
+  if (may_frame || may_frames) {
+    if (j.contains("frame") && j.contains("frames"))
+      r.fail(path + "/frames", "expected either \"frame\" or \"frames\", not both");
+    if (j.contains("frames")) {
+      const std::string fp = path + "/frames";
+      const json& f = j["frames"];
+      if (!f.is_array() || f.size() != 2) r.fail(fp, "expected [first, last] (2 frame numbers), " + got(f));
+      e.first = r.uint(f[0], fp + "/0", 0, kMaxFrames - 1);
+      e.last = r.uint(f[1], fp + "/1", 0, kMaxFrames - 1);
+      if (e.last < e.first) r.fail(fp + "/1", fmt::format("expected last >= first ({}), got {}", e.first, e.last));
+      e.ranged = true;
+    } else if (j.contains("frame")) {
+      e.first = e.last = r.uint(j["frame"], path + "/frame", 0, kMaxFrames - 1);
+    } else {
+      r.fail(path + "/frame", may_frames ? "missing required key \"frame\" (or \"frames\": [first, last])"
+                                         : "missing required key \"frame\"");
+    }
+  }
+
+  auto name = [&](const char* key) { return r.string(j[key], path + "/" + key); };
+  switch (e.type) {
+    case EventType::LightOn:
+    case EventType::LightOff: e.light = name("light"); break;
+    case EventType::LightIntensity:
+      e.light = name("light");
+      e.scale = r.number(j["scale"], path + "/scale", 0.0, kMaxIntensity);
+      break;
+    case EventType::LightColor:
+      e.light = name("light");
+      e.color = r.vec3(j["color"], path + "/color", 0.0, kMaxColor);
+      break;
+    case EventType::CameraKeyframes: {
+      const json& keys = r.array(j["keys"], path + "/keys", 1);
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        const std::string kp = Reader::at(path + "/keys", i);
+        r.object(keys[i], kp, K.camera_key_keys, {"frame", "position", "target"});
+        CameraKey k;
+        k.frame = r.uint(keys[i]["frame"], kp + "/frame", 0, kMaxFrames - 1);
+        if (!e.keys.empty() && k.frame <= e.keys.back().frame)
+          r.fail(kp + "/frame", fmt::format("expected key frames in increasing order (> {}), got {}", e.keys.back().frame, k.frame));
+        CameraPose p = parse_pose(r, json{{"position", keys[i]["position"]}, {"target", keys[i]["target"]}}, kp);
+        k.position = p.position;
+        k.target = p.target;
+        if (keys[i].contains("fov_y_degrees")) k.fov_y_degrees = fov(r, keys[i]["fov_y_degrees"], kp + "/fov_y_degrees");
+        e.keys.push_back(k);
+      }
+      e.first = 0;  // held before the first key: it governs the camera from frame 0
+      e.last = e.keys.back().frame;
+      e.ranged = true;
+      break;
+    }
+    case EventType::CameraSweep:
+      e.from = parse_pose(r, j["from"], path + "/from");
+      e.to = parse_pose(r, j["to"], path + "/to");
+      if (j.contains("ease")) e.smooth = r.one_of(j["ease"], path + "/ease", {"linear", "smooth"}) == "smooth";
+      break;
+    case EventType::Spawn:
+      e.instance = name("instance");
+      if (j.contains("of") == j.contains("mesh"))
+        r.fail(path + "/of", "expected exactly one of \"of\" (an existing instance) or \"mesh\" (a generator)");
+      if (j.contains("mesh")) {
+        const std::string mp = path + "/mesh";
+        r.object(j["mesh"], mp, K.mesh_generator_keys, {"generator"});
+        MeshGeneratorSpec m;
+        m.generator = r.string(j["mesh"]["generator"], mp + "/generator");
+        if (j["mesh"].contains("params")) {
+          if (!j["mesh"]["params"].is_object()) r.fail(mp + "/params", "expected an object, " + got(j["mesh"]["params"]));
+          m.params = j["mesh"]["params"];
+        }
+        e.mesh = std::move(m);
+      } else {
+        e.of = name("of");
+      }
+      [[fallthrough]];
+    case EventType::Transform:
+      if (e.type == EventType::Transform) e.instance = name("instance");
+      if (j.contains("translation")) e.translation = r.vec3(j["translation"], path + "/translation", -kMaxCoordinate, kMaxCoordinate);
+      if (j.contains("rotation_degrees")) e.rotation_degrees = r.vec3(j["rotation_degrees"], path + "/rotation_degrees", -kMaxDegrees, kMaxDegrees);
+      if (j.contains("scale")) e.scale3 = parse_scale(r, j["scale"], path + "/scale");
+      break;
+    case EventType::Despawn: e.instance = name("instance"); break;
+    case EventType::Material:
+      e.material = name("material");
+      if (j.contains("base_color")) e.base_color = r.vec3(j["base_color"], path + "/base_color", 0.0, 1.0);
+      if (j.contains("metallic")) e.metallic = r.number(j["metallic"], path + "/metallic", 0.0, 1.0);
+      if (j.contains("perceptual_roughness"))
+        e.perceptual_roughness = r.number(j["perceptual_roughness"], path + "/perceptual_roughness", 0.0, 1.0);
+      if (j.contains("reflectance")) e.reflectance = r.number(j["reflectance"], path + "/reflectance", 0.0, 1.0);
+      if (j.contains("emissive")) e.emissive = r.vec3(j["emissive"], path + "/emissive", 0.0, kMaxIntensity);
+      if (!e.base_color && !e.metallic && !e.perceptual_roughness && !e.reflectance && !e.emissive)
+        r.fail(path, "expected at least one of base_color, metallic, perceptual_roughness, reflectance, emissive");
+      break;
+  }
+  return e;
+}
+
+CheckSpec parse_check(const Reader& r, const json& j, std::size_t index) {
+  const ScenarioKeys& K = scenario_keys();
+  const std::string path = Reader::at("/checks", index);
+  if (!j.is_object()) r.fail(path, "expected a check object {\"name\": …}, " + got(j));
+  if (!j.contains("name")) r.fail(path + "/name", fmt::format("missing required key \"name\" (one of {})", join(K.check_names)));
+  CheckSpec c;
+  c.name = r.one_of(j["name"], path + "/name", K.check_names);
+  c.json_path = path;
+  auto fixed = K.check_keys.find(c.name);
+  if (fixed != K.check_keys.end()) r.object(j, path, fixed->second, {"name"});
+  c.params = j;
+  c.params.erase("name");
+  if (c.name == "reference") {
+    if (j.contains("frames")) {
+      const json& f = r.array(j["frames"], path + "/frames", 1);
+      for (std::size_t i = 0; i < f.size(); ++i) r.uint(f[i], Reader::at(path + "/frames", i), 0, kMaxFrames - 1);
+    }
+    if (j.contains("relmse_noise_factor")) r.number(j["relmse_noise_factor"], path + "/relmse_noise_factor", 0.0, 1e6);
+    if (j.contains("energy_tolerance")) r.number(j["energy_tolerance"], path + "/energy_tolerance", 0.0, 1.0);
+    if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 1, 1u << 24);
+  }
+  return c;
+}
+
+}  // namespace
+
+Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
+  const ScenarioKeys& K = scenario_keys();
+  const Reader r(file.string());
+  r.object(doc, "", K.top_level, K.required_top_level);
+
+  Scenario s;
+  s.file = file;
+  s.raw = doc;
+
+  if (doc.contains("$schema")) r.string(doc["$schema"], "/$schema");
+  s.name = r.string(doc["name"], "/name");
+  if (!valid_name(s.name)) r.fail("/name", fmt::format("expected a name matching {}, got \"{}\"", kNamePattern, s.name));
+  if (doc.contains("description")) s.description = r.string(doc["description"], "/description", false);
+
+  // scene
+  {
+    const json& sc = doc["scene"];
+    r.object(sc, "/scene", K.scene_keys);
+    if (sc.contains("generator") == sc.contains("gltf"))
+      r.fail("/scene", "expected exactly one of \"generator\" (with optional \"params\") or \"gltf\"");
+    if (sc.contains("generator")) {
+      s.scene.generator = r.string(sc["generator"], "/scene/generator");
+      if (sc.contains("params")) {
+        if (!sc["params"].is_object()) r.fail("/scene/params", "expected an object, " + got(sc["params"]));
+        s.scene.params = sc["params"];
+      }
+    } else {
+      if (sc.contains("params")) r.fail("/scene/params", "unexpected \"params\" with \"gltf\" (only generators take params)");
+      const std::string g = r.string(sc["gltf"], "/scene/gltf");
+      std::filesystem::path p(g);
+      if (p.is_relative()) p = file.parent_path() / p;
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(p, ec))
+        r.fail("/scene/gltf", fmt::format("expected an existing glTF file (relative to the scenario's folder), "
+                                          "\"{}\" not found", p.string()));
+      s.scene.gltf = p.lexically_normal();
+    }
+  }
+
+  // resolution, frames, seed
+  {
+    const json& res = doc["resolution"];
+    if (!res.is_array() || res.size() != 2)
+      r.fail("/resolution", fmt::format("expected [width, height], integers in 1..{}, {}", kMaxResolution, got(res)));
+    s.resolution[0] = r.uint(res[0], "/resolution/0", 1, kMaxResolution);
+    s.resolution[1] = r.uint(res[1], "/resolution/1", 1, kMaxResolution);
+  }
+  s.frames = r.uint(doc["frames"], "/frames", 1, kMaxFrames);
+  if (doc.contains("seed")) s.seed = r.uint(doc["seed"], "/seed", 0, 0xffffffffu);
+  if (doc.contains("profile")) s.profile = r.one_of(doc["profile"], "/profile", K.profiles);
+  if (doc.contains("overrides")) {
+    if (!doc["overrides"].is_object()) r.fail("/overrides", "expected an object of profile keys, " + got(doc["overrides"]));
+    s.overrides = doc["overrides"];
+  }
+  if (doc.contains("mode"))
+    s.mode = r.one_of(doc["mode"], "/mode", K.modes) == "reference" ? RenderMode::Reference : RenderMode::Realtime;
+  if (doc.contains("samples_per_frame"))
+    s.samples_per_frame = r.uint(doc["samples_per_frame"], "/samples_per_frame", 1, kMaxSamplesPerFrame);
+
+  if (doc.contains("camera")) {
+    const json& c = doc["camera"];
+    r.object(c, "/camera", K.camera_keys, {"position", "target"});
+    CameraSpec cam;
+    CameraPose p = parse_pose(r, json{{"position", c["position"]}, {"target", c["target"]}}, "/camera");
+    cam.position = p.position;
+    cam.target = p.target;
+    if (c.contains("up")) {
+      glm::vec3 up = r.vec3(c["up"], "/camera/up", -1e6, 1e6);
+      if (glm::dot(up, up) == 0.0f) r.fail("/camera/up", "expected a non-zero up vector");
+      cam.up = up;
+    }
+    if (c.contains("fov_y_degrees")) cam.fov_y_degrees = fov(r, c["fov_y_degrees"], "/camera/fov_y_degrees");
+    s.camera = cam;
+  }
+
+  if (doc.contains("events")) {
+    const json& ev = r.array(doc["events"], "/events");
+    for (std::size_t i = 0; i < ev.size(); ++i) s.events.push_back(parse_event(r, ev[i], i));
+  }
+  if (doc.contains("checks")) {
+    const json& ch = r.array(doc["checks"], "/checks");
+    for (std::size_t i = 0; i < ch.size(); ++i) {
+      CheckSpec c = parse_check(r, ch[i], i);
+      if (s.has_check(c.name)) r.fail(c.json_path + "/name", fmt::format("expected each check once, \"{}\" repeats", c.name));
+      s.checks.push_back(std::move(c));
+    }
+  }
+  if (doc.contains("capture")) {
+    const json& cap = r.array(doc["capture"], "/capture");
+    for (std::size_t i = 0; i < cap.size(); ++i) {
+      std::uint32_t f = r.uint(cap[i], Reader::at("/capture", i), 0, kMaxFrames - 1);
+      if (std::find(s.capture.begin(), s.capture.end(), f) != s.capture.end())
+        r.fail(Reader::at("/capture", i), fmt::format("expected distinct frames, {} repeats", f));
+      s.capture.push_back(f);
+    }
+  }
+  return s;
+}
+
+Scenario load_scenario(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "", "expected a readable scenario file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // Line and column of the byte where parsing stopped.
+    std::size_t byte = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i < byte; ++i) {
+      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+    }
+    std::string detail = e.what();
+    std::size_t p = detail.find("column");
+    if (p != std::string::npos && (p = detail.find(": ", p)) != std::string::npos) detail = detail.substr(p + 2);
+    throw InputError(file.string(), "", fmt::format("expected valid JSON; line {}, column {}: {}", line, col, detail));
+  }
+  return parse_scenario(doc, file);
+}
+
+}  // namespace gi

@@ -1,0 +1,162 @@
+// Scenario files (DESIGN §7): parsing and validation of the JSON format that
+// scenarios/schema.json describes. Every error is a gi::InputError naming the
+// file, the JSON Pointer of the offending value and what was expected (exit
+// code 2). The parser is the authority; tests/scenario_test.cpp keeps the
+// schema's key tables and enums identical to scenario_keys().
+//
+// Frames are numbered from 0; a scenario of `frames` N renders 0..N-1.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+namespace gi {
+
+enum class RenderMode { Reference, Realtime };
+
+enum class EventType {
+  LightOn, LightOff, LightIntensity, LightColor,
+  CameraKeyframes, CameraSweep,
+  Spawn, Despawn, Transform, Material,
+};
+const char* to_string(EventType type);  // the JSON spelling ("light_on", …)
+
+struct SceneSpec {
+  std::string generator;                       // "cornell_box", …; empty for a glTF scene
+  nlohmann::json params = nlohmann::json::object();  // generator parameters (checked by build_scene)
+  std::filesystem::path gltf;                  // resolved against the scenario's folder; empty for a generator
+};
+
+struct CameraSpec {
+  glm::vec3 position{0.0f};
+  glm::vec3 target{0.0f};
+  std::optional<glm::vec3> up;          // absent: keep the scene's
+  std::optional<float> fov_y_degrees;   // absent: keep the scene's
+};
+
+struct CameraKey {
+  std::uint32_t frame = 0;
+  glm::vec3 position{0.0f};
+  glm::vec3 target{0.0f};
+  std::optional<float> fov_y_degrees;  // absent: the previous key's (first keys: the camera's)
+};
+
+struct CameraPose {
+  glm::vec3 position{0.0f};
+  glm::vec3 target{0.0f};
+  std::optional<float> fov_y_degrees;
+};
+
+struct MeshGeneratorSpec {
+  std::string generator;
+  nlohmann::json params = nlohmann::json::object();
+};
+
+struct Event {
+  EventType type = EventType::LightOn;
+  std::size_t index = 0;     // position in the file's "events" array
+  std::string json_path;     // "/events/<index>"
+  bool ranged = false;       // "frames": [first, last] rather than "frame"
+  std::uint32_t first = 0;   // the frame it starts at (camera_keyframes: 0, it holds its first key before it)
+  std::uint32_t last = 0;    // == first unless ranged (camera_keyframes: its last key)
+
+  // light_on, light_off, light_intensity, light_color
+  std::string light;
+  float scale = 1.0f;                 // light_intensity
+  glm::vec3 color{1.0f};              // light_color
+  // camera_keyframes (sorted by frame, strictly increasing)
+  std::vector<CameraKey> keys;
+  // camera_sweep
+  CameraPose from, to;
+  bool smooth = false;                // "ease": "smooth" (smoothstep) rather than "linear"
+  // spawn, despawn, transform
+  std::string instance;
+  std::string of;                     // spawn: copy of this instance (else `mesh`)
+  std::optional<MeshGeneratorSpec> mesh;
+  glm::vec3 translation{0.0f};
+  glm::vec3 rotation_degrees{0.0f};   // xyz Euler: R = Rz·Ry·Rx
+  glm::vec3 scale3{1.0f};             // "scale": s or [sx, sy, sz]
+  // material
+  std::string material;
+  std::optional<glm::vec3> base_color;
+  std::optional<float> metallic;
+  std::optional<float> perceptual_roughness;
+  std::optional<float> reflectance;
+  std::optional<glm::vec3> emissive;
+};
+
+struct CheckSpec {
+  std::string name;                              // one of scenario_keys().check_names
+  nlohmann::json params = nlohmann::json::object();  // every key but "name"
+  std::string json_path;                         // "/checks/<index>"
+};
+
+struct Scenario {
+  std::filesystem::path file;   // where it was read from (errors name it)
+  nlohmann::json raw;           // the document as read, every key kept
+  std::string name;
+  std::string description;
+  SceneSpec scene;
+  std::array<std::uint32_t, 2> resolution{0, 0};  // width, height
+  std::uint32_t frames = 0;
+  std::uint32_t seed = 1;
+  std::string profile = "solari-0.18";
+  nlohmann::json overrides = nlohmann::json::object();  // validated later against the profile
+  RenderMode mode = RenderMode::Realtime;
+  std::uint32_t samples_per_frame = 1;
+  std::optional<CameraSpec> camera;
+  std::vector<Event> events;    // in file order
+  std::vector<CheckSpec> checks;
+  std::vector<std::uint32_t> capture;
+
+  bool has_check(const std::string& check_name) const;
+  const CheckSpec* find_check(const std::string& check_name) const;
+};
+
+// Reads, parses and validates a scenario file (not the scene: see build_scene).
+Scenario load_scenario(const std::filesystem::path& file);
+// Same from an already parsed document; `file` names it in errors and is the
+// base of relative paths (glTF scenes).
+Scenario parse_scenario(const nlohmann::json& doc, const std::filesystem::path& file);
+
+// The order events are applied in: by start frame (Event::first), then by
+// position in the file. Indices into scenario.events.
+std::vector<std::size_t> event_order(const Scenario& scenario);
+
+// The parser's key tables, the single source the schema is tested against.
+struct ScenarioKeys {
+  std::vector<std::string> top_level;           // every allowed top-level key
+  std::vector<std::string> required_top_level;
+  std::vector<std::string> scene_keys;          // "generator", "params", "gltf"
+  std::vector<std::string> camera_keys;
+  std::vector<std::string> modes;
+  std::vector<std::string> profiles;
+  std::vector<std::string> event_types;
+  std::map<std::string, std::vector<std::string>> event_keys;  // per event type, "type" included
+  std::vector<std::string> camera_key_keys;     // camera_keyframes "keys" items
+  std::vector<std::string> camera_pose_keys;    // camera_sweep "from"/"to"
+  std::vector<std::string> mesh_generator_keys; // spawn "mesh"
+  std::vector<std::string> check_names;
+  // Params of each check with a fixed parameter set ("name" included); checks
+  // not listed here accept any parameters (their code validates them).
+  std::map<std::string, std::vector<std::string>> check_keys;
+  std::vector<std::string> cornell_box_params;
+};
+const ScenarioKeys& scenario_keys();
+
+// Limits shared by the parser and the schema.
+inline constexpr std::uint32_t kMaxResolution = 8192;
+inline constexpr std::uint32_t kMaxFrames = 10'000'000;
+inline constexpr std::uint32_t kMaxSamplesPerFrame = 1024;
+
+// JSON Pointer escaping of one reference token ("~" → "~0", "/" → "~1").
+std::string json_pointer_token(const std::string& key);
+
+}  // namespace gi

@@ -1,0 +1,115 @@
+#include "core/scene_builder.h"
+
+#include <set>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/gltf_import.h"
+#include "core/scenes/cornell_box.h"
+
+namespace gi {
+
+using nlohmann::json;
+
+namespace {
+
+std::string file_of(const Scenario& s) { return s.file.string(); }
+
+float param_number(const Scenario& s, const json& params, const char* key, double lo, double hi, float fallback) {
+  if (!params.contains(key)) return fallback;
+  const json& v = params[key];
+  const std::string path = std::string("/scene/params/") + key;
+  if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
+    throw InputError(file_of(s), path, fmt::format("expected a number in [{}, {}], got {}", lo, hi, v.dump()));
+  return v.get<float>();
+}
+
+Scene build_generator(const Scenario& s) {
+  const json& params = s.scene.params;
+  if (s.scene.generator == "cornell_box") {
+    const std::vector<std::string>& allowed = scenario_keys().cornell_box_params;
+    std::string list;
+    for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
+    for (auto it = params.begin(); it != params.end(); ++it)
+      if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
+        throw InputError(file_of(s), "/scene/params/" + json_pointer_token(it.key()),
+                         fmt::format("unknown cornell_box parameter \"{}\"; expected one of: {}", it.key(), list));
+    CornellBoxOptions o;
+    o.light_scale = param_number(s, params, "light_scale", 0.0, 1e9, o.light_scale);
+    o.albedo_scale = param_number(s, params, "albedo_scale", 0.0, 1.37, o.albedo_scale);
+    if (params.contains("blocks")) {
+      if (!params["blocks"].is_boolean())
+        throw InputError(file_of(s), "/scene/params/blocks", "expected true or false, got " + params["blocks"].dump());
+      o.blocks = params["blocks"].get<bool>();
+    }
+    return make_cornell_box(o);
+  }
+  throw InputError(file_of(s), "/scene/generator",
+                   fmt::format("expected a scene generator (one of: cornell_box), got \"{}\"", s.scene.generator));
+}
+
+}  // namespace
+
+Scene build_scene(const Scenario& s) {
+  Scene scene = s.scene.generator.empty() ? import_gltf(s.scene.gltf) : build_generator(s);
+  if (s.camera) {
+    scene.camera.position = s.camera->position;
+    scene.camera.target = s.camera->target;
+    if (s.camera->up) scene.camera.up = *s.camera->up;
+    if (s.camera->fov_y_degrees) scene.camera.vertical_fov_degrees = *s.camera->fov_y_degrees;
+  }
+  validate_events(s, scene);
+  return scene;
+}
+
+GeneratedMesh generate_mesh(const MeshGeneratorSpec& spec, const Scenario& s, const std::string& json_path) {
+  throw InputError(file_of(s), json_path + "/mesh/generator",
+                   fmt::format("unknown mesh generator \"{}\" (no mesh generator is implemented yet)", spec.generator));
+}
+
+void validate_events(const Scenario& s, const Scene& initial) {
+  std::set<std::string> instances, lights, materials;
+  for (const Instance& i : initial.instances) instances.insert(i.name);
+  for (const DirectionalLight& l : initial.directional_lights) lights.insert(l.name);
+  for (const Material& m : initial.materials) materials.insert(m.name);
+  auto fail = [&](const Event& e, const char* key, const std::string& what) {
+    throw InputError(file_of(s), e.json_path + "/" + key, what);
+  };
+  auto need_instance = [&](const Event& e, const char* key, const std::string& n) {
+    if (!instances.count(n))
+      fail(e, key, fmt::format("expected the name of an instance of the scene or spawned by an earlier event, "
+                               "got \"{}\"", n));
+  };
+  for (std::size_t idx : event_order(s)) {
+    const Event& e = s.events[idx];
+    switch (e.type) {
+      case EventType::LightOn: case EventType::LightOff: case EventType::LightIntensity: case EventType::LightColor:
+        if (!instances.count(e.light) && !lights.count(e.light))
+          fail(e, "light", fmt::format("expected the name of an emissive instance or a directional light, got \"{}\"",
+                                       e.light));
+        break;
+      case EventType::Spawn:
+        if (instances.count(e.instance) || lights.count(e.instance))
+          fail(e, "instance", fmt::format("expected a new instance name, \"{}\" already exists", e.instance));
+        if (e.mesh) {
+          GeneratedMesh g = generate_mesh(*e.mesh, s, e.json_path);
+          materials.insert(g.material.name);
+        } else {
+          need_instance(e, "of", e.of);
+        }
+        instances.insert(e.instance);
+        break;
+      case EventType::Despawn:
+      case EventType::Transform: need_instance(e, "instance", e.instance); break;
+      case EventType::Material:
+        if (!materials.count(e.material))
+          fail(e, "material", fmt::format("expected the name of a material of the scene, got \"{}\"", e.material));
+        break;
+      case EventType::CameraKeyframes:
+      case EventType::CameraSweep: break;
+    }
+  }
+}
+
+}  // namespace gi

@@ -1,0 +1,394 @@
+// Scenario parsing: bad files name the file and the JSON path; the schema
+// (scenarios/schema.json) and the parser agree on keys, enums and verdicts.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <set>
+
+#include "core/errors.h"
+#include "core/scenario.h"
+#include "core/scene_builder.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const fs::path kSource = GIHARNESS_SOURCE_DIR;
+const fs::path kBad = kSource / "tests/data/scenarios/bad";
+const fs::path kGood = kSource / "tests/data/scenarios/good";
+
+json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+
+// ---- A minimal JSON Schema (2020-12) validator: the subset schema.json uses.
+class MiniValidator {
+ public:
+  explicit MiniValidator(json schema) : root_(std::move(schema)) {}
+  bool valid(const json& v) const { return check(root_, v); }
+
+ private:
+  const json& resolve(const json& s) const {
+    if (!s.is_object() || !s.contains("$ref")) return s;
+    std::string ref = s["$ref"];
+    EXPECT_EQ(ref.rfind("#/", 0), 0u) << ref;
+    return root_.at(json::json_pointer(ref.substr(1)));
+  }
+  static bool type_ok(const std::string& t, const json& v) {
+    if (t == "object") return v.is_object();
+    if (t == "array") return v.is_array();
+    if (t == "string") return v.is_string();
+    if (t == "boolean") return v.is_boolean();
+    if (t == "integer") return v.is_number_integer() || (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()));
+    if (t == "number") return v.is_number();
+    if (t == "null") return v.is_null();
+    ADD_FAILURE() << "type " << t;
+    return false;
+  }
+  bool check(const json& schema, const json& v) const {
+    if (schema.is_boolean()) return schema.get<bool>();
+    if (schema.contains("$ref") && !check(resolve(schema), v)) return false;
+    static const std::set<std::string> known = {"$schema", "$id", "$ref", "$defs", "title", "description", "default",
+        "type", "enum", "const", "properties", "additionalProperties", "required", "items", "prefixItems", "minItems",
+        "uniqueItems", "minimum", "maximum", "pattern", "minLength", "oneOf", "anyOf", "allOf", "not", "if", "then"};
+    for (auto it = schema.begin(); it != schema.end(); ++it)
+      if (!known.count(it.key())) ADD_FAILURE() << "MiniValidator does not know " << it.key();
+    if (schema.contains("type") && !type_ok(schema["type"], v)) return false;
+    if (schema.contains("enum") && std::find(schema["enum"].begin(), schema["enum"].end(), v) == schema["enum"].end()) return false;
+    if (schema.contains("const") && schema["const"] != v) return false;
+    if (v.is_number()) {
+      if (schema.contains("minimum") && v.get<double>() < schema["minimum"].get<double>()) return false;
+      if (schema.contains("maximum") && v.get<double>() > schema["maximum"].get<double>()) return false;
+    }
+    if (v.is_string()) {
+      if (schema.contains("minLength") && v.get<std::string>().size() < schema["minLength"].get<std::size_t>()) return false;
+      if (schema.contains("pattern") && !std::regex_search(v.get<std::string>(), std::regex(schema["pattern"].get<std::string>())))
+        return false;
+    }
+    if (v.is_object()) {
+      if (schema.contains("required"))
+        for (const json& r : schema["required"])
+          if (!v.contains(r.get<std::string>())) return false;
+      for (auto it = v.begin(); it != v.end(); ++it) {
+        if (schema.contains("properties") && schema["properties"].contains(it.key())) {
+          if (!check(schema["properties"][it.key()], it.value())) return false;
+        } else if (schema.contains("additionalProperties") && !check(schema["additionalProperties"], it.value())) {
+          return false;
+        }
+      }
+    }
+    if (v.is_array()) {
+      if (schema.contains("minItems") && v.size() < schema["minItems"].get<std::size_t>()) return false;
+      std::size_t prefix = schema.contains("prefixItems") ? schema["prefixItems"].size() : 0;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        if (i < prefix) {
+          if (!check(schema["prefixItems"][i], v[i])) return false;
+        } else if (schema.contains("items") && !check(schema["items"], v[i])) {
+          return false;
+        }
+      }
+      if (schema.value("uniqueItems", false))
+        for (std::size_t i = 0; i < v.size(); ++i)
+          for (std::size_t j = i + 1; j < v.size(); ++j)
+            if (v[i] == v[j]) return false;
+    }
+    if (schema.contains("allOf"))
+      for (const json& s : schema["allOf"])
+        if (!check(s, v)) return false;
+    if (schema.contains("anyOf")) {
+      bool any = false;
+      for (const json& s : schema["anyOf"]) any = any || check(s, v);
+      if (!any) return false;
+    }
+    if (schema.contains("oneOf")) {
+      int n = 0;
+      for (const json& s : schema["oneOf"]) n += check(s, v) ? 1 : 0;
+      if (n != 1) return false;
+    }
+    if (schema.contains("not") && check(schema["not"], v)) return false;
+    if (schema.contains("if") && check(schema["if"], v) && schema.contains("then") && !check(schema["then"], v))
+      return false;
+    return true;
+  }
+  json root_;
+};
+
+json schema() { return read_json(kSource / "scenarios/schema.json"); }
+
+std::vector<std::string> keys_of(const json& properties) {
+  std::vector<std::string> k;
+  for (auto it = properties.begin(); it != properties.end(); ++it) k.push_back(it.key());
+  return k;
+}
+std::set<std::string> as_set(const std::vector<std::string>& v) { return {v.begin(), v.end()}; }
+std::set<std::string> as_set(const json& a) { return {a.begin(), a.end()}; }
+
+// Every scenario file the repository holds (schema and profiles aside).
+std::vector<fs::path> scenario_files() {
+  std::vector<fs::path> files;
+  for (const fs::path& dir : {kSource / "scenarios", kGood, kBad})
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+      const fs::path& p = e.path();
+      if (p.extension() != ".json" || p.filename() == "schema.json") continue;
+      if (p.string().find("/profiles/") != std::string::npos || p.string().find("/assets/") != std::string::npos) continue;
+      files.push_back(p);
+    }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+bool parser_accepts(const json& doc, const fs::path& file) {
+  try {
+    gi::parse_scenario(doc, file);
+    return true;
+  } catch (const gi::InputError&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+// ---- Bad files: every one is an InputError naming the file and the path.
+struct BadCase {
+  const char* file;
+  const char* path;   // JSON Pointer of the offending value ("" = the document)
+  bool at_build;      // rejected by build_scene (the scene is needed), not by load_scenario
+  const char* also;   // a further piece of the message
+};
+
+const BadCase kBadCases[] = {
+    {"malformed_json.json", "", false, "line 5, column"},
+    {"wrong_type.json", "/frames", false, "integer"},
+    {"unknown_event_type.json", "/events/3/type", false, "got \"light_of\""},
+    {"unknown_key.json", "/events/0/translate", false, "unknown key \"translate\""},
+    {"unknown_top_level_key.json", "/frame_count", false, "expected one of: $schema, name"},
+    {"out_of_range.json", "/resolution/1", false, "1..8192"},
+    {"missing_scene_file.json", "/scene/gltf", false, "does_not_exist.gltf"},
+    {"unknown_check.json", "/checks/1/name", false, "got \"energy\""},
+    {"frames_on_one_frame_event.json", "/events/0/frames", false, "unknown key"},
+    {"unknown_light_name.json", "/events/0/light", true, "\"lamp\""},
+    {"unknown_generator.json", "/scene/generator", true, "\"cornel_box\""},
+    {"unknown_mesh_generator.json", "/events/0/mesh/generator", true, "unknown mesh generator"},
+};
+
+TEST(Scenario, EveryBadFileIsAnInputErrorWithFileAndPath) {
+  std::set<std::string> covered;
+  for (const BadCase& c : kBadCases) {
+    SCOPED_TRACE(c.file);
+    covered.insert(c.file);
+    const fs::path file = kBad / c.file;
+    try {
+      gi::Scenario s = gi::load_scenario(file);
+      ASSERT_TRUE(c.at_build) << "load_scenario accepted it";
+      gi::build_scene(s);
+      FAIL() << "build_scene accepted it";
+    } catch (const gi::InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(e.json_path(), c.path) << what;
+      EXPECT_NE(what.find(c.file), std::string::npos) << what;
+      EXPECT_NE(what.find(std::string(": ") + (*c.path ? c.path : "/") + ": "), std::string::npos) << what;
+      EXPECT_NE(what.find(c.also), std::string::npos) << what;
+    }
+  }
+  for (const auto& e : fs::directory_iterator(kBad))
+    EXPECT_TRUE(covered.count(e.path().filename().string())) << e.path() << " has no case in kBadCases";
+}
+
+TEST(Scenario, CornellBoxScenario) {
+  gi::Scenario s = gi::load_scenario(kSource / "scenarios/cornell_box.json");
+  EXPECT_EQ(s.name, "cornell_box");
+  EXPECT_EQ(s.resolution[0], 320u);
+  EXPECT_EQ(s.resolution[1], 180u);
+  EXPECT_EQ(s.frames, 64u);
+  EXPECT_EQ(s.seed, 1u);
+  EXPECT_EQ(s.profile, "solari-0.18");
+  EXPECT_EQ(s.mode, gi::RenderMode::Reference);
+  ASSERT_EQ(s.checks.size(), 1u);
+  EXPECT_EQ(s.checks[0].name, "finite");
+  EXPECT_EQ(s.raw["description"], s.description);
+  gi::Scene scene = gi::build_scene(s);
+  EXPECT_TRUE(scene.find_instance("light"));
+}
+
+TEST(Scenario, DefaultsAndRawKept) {
+  json doc = {{"name", "x"}, {"scene", {{"generator", "cornell_box"}}}, {"resolution", {8, 4}}, {"frames", 3},
+              {"overrides", {{"a.b", 1}}}};
+  gi::Scenario s = gi::parse_scenario(doc, "inline.json");
+  EXPECT_EQ(s.seed, 1u);
+  EXPECT_EQ(s.profile, "solari-0.18");
+  EXPECT_EQ(s.mode, gi::RenderMode::Realtime);
+  EXPECT_EQ(s.samples_per_frame, 1u);
+  EXPECT_EQ(s.overrides["a.b"], 1);
+  EXPECT_EQ(s.raw, doc);
+}
+
+TEST(Scenario, AllEventsScenarioParsesAndBuilds) {
+  gi::Scenario s = gi::load_scenario(kGood / "all_events.json");
+  ASSERT_EQ(s.events.size(), 10u);
+  EXPECT_EQ(s.events[0].type, gi::EventType::CameraKeyframes);
+  EXPECT_EQ(s.events[4].first, 10u);
+  EXPECT_EQ(s.events[4].last, 20u);
+  EXPECT_TRUE(s.events[4].ranged);
+  EXPECT_EQ(s.events[7].scale3, glm::vec3(1, 2, 1));
+  EXPECT_EQ(s.find_check("reference")->params["spp"], 256);
+  EXPECT_EQ(s.find_check("blend_lag")->params["epsilon"], 0.05);
+  gi::build_scene(s);
+  // Applied in (frame, position) order.
+  std::vector<std::size_t> order = gi::event_order(s);
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const gi::Event& a = s.events[order[i - 1]];
+    const gi::Event& b = s.events[order[i]];
+    EXPECT_TRUE(a.first < b.first || (a.first == b.first && a.index < b.index));
+  }
+}
+
+// ---- The schema and the parser list the same keys and enums.
+TEST(ScenarioSchema, KeysAndEnumsMatchTheParser) {
+  const json S = schema();
+  const json& D = S["$defs"];
+  const gi::ScenarioKeys& K = gi::scenario_keys();
+  EXPECT_EQ(as_set(keys_of(S["properties"])), as_set(K.top_level));
+  EXPECT_EQ(as_set(S["required"]), as_set(K.required_top_level));
+  EXPECT_EQ(as_set(keys_of(D["scene"]["properties"])), as_set(K.scene_keys));
+  EXPECT_EQ(as_set(keys_of(D["camera"]["properties"])), as_set(K.camera_keys));
+  EXPECT_EQ(as_set(keys_of(D["camera_key"]["properties"])), as_set(K.camera_key_keys));
+  EXPECT_EQ(as_set(keys_of(D["camera_pose"]["properties"])), as_set(K.camera_pose_keys));
+  EXPECT_EQ(as_set(keys_of(D["mesh_generator"]["properties"])), as_set(K.mesh_generator_keys));
+  EXPECT_EQ(as_set(keys_of(D["cornell_box_params"]["properties"])), as_set(K.cornell_box_params));
+  EXPECT_EQ(as_set(S["properties"]["mode"]["enum"]), as_set(K.modes));
+  EXPECT_EQ(as_set(S["properties"]["profile"]["enum"]), as_set(K.profiles));
+  EXPECT_EQ(as_set(D["event"]["properties"]["type"]["enum"]), as_set(K.event_types));
+  EXPECT_EQ(K.event_keys.size(), K.event_types.size());
+  for (const std::string& t : K.event_types) {
+    SCOPED_TRACE(t);
+    ASSERT_TRUE(D.contains("event_" + t));
+    EXPECT_EQ(D["event_" + t]["properties"]["type"]["const"], t);
+    EXPECT_EQ(D["event_" + t]["additionalProperties"], false);
+    EXPECT_EQ(as_set(keys_of(D["event_" + t]["properties"])), as_set(K.event_keys.at(t)));
+  }
+  EXPECT_EQ(as_set(D["check"]["properties"]["name"]["enum"]), as_set(K.check_names));
+  std::set<std::string> fixed;
+  for (auto it = D.begin(); it != D.end(); ++it)
+    if (it.key().rfind("check_", 0) == 0) fixed.insert(it.key().substr(6));
+  std::set<std::string> parser_fixed;
+  for (const auto& [name, keys] : K.check_keys) {
+    parser_fixed.insert(name);
+    EXPECT_EQ(as_set(keys_of(D["check_" + name]["properties"])), as_set(keys)) << name;
+  }
+  EXPECT_EQ(fixed, parser_fixed);
+}
+
+// ---- Verdicts: every scenario file, and mutations of the good ones, are
+// accepted by the parser exactly when the schema accepts them (except the
+// files whose error needs more than the document).
+TEST(ScenarioSchema, ParserAndSchemaAgreeOnEveryFile) {
+  MiniValidator v(schema());
+  const std::set<std::string> beyond_schema = {"missing_scene_file.json", "unknown_light_name.json",
+                                               "unknown_generator.json", "unknown_mesh_generator.json"};
+  int n = 0;
+  for (const fs::path& f : scenario_files()) {
+    SCOPED_TRACE(f.string());
+    json doc;
+    try {
+      std::ifstream in(f);
+      doc = json::parse(in);
+    } catch (const json::parse_error&) {
+      EXPECT_THROW(gi::load_scenario(f), gi::InputError);
+      continue;
+    }
+    ++n;
+    const bool schema_ok = v.valid(doc);
+    const bool parser_ok = parser_accepts(doc, f);
+    if (beyond_schema.count(f.filename().string())) {
+      EXPECT_TRUE(schema_ok);
+    } else {
+      EXPECT_EQ(schema_ok, parser_ok);
+    }
+    if (f.parent_path() == kBad && !beyond_schema.count(f.filename().string())) {
+      EXPECT_FALSE(parser_ok);
+    }
+  }
+  EXPECT_GE(n, 10);
+}
+
+TEST(ScenarioSchema, ParserAndSchemaAgreeOnMutations) {
+  MiniValidator v(schema());
+  const gi::ScenarioKeys& K = gi::scenario_keys();
+  int n = 0;
+  auto agree = [&](const json& doc, const fs::path& f, const std::string& what) {
+    ++n;
+    EXPECT_EQ(v.valid(doc), parser_accepts(doc, f)) << what << "\n" << doc.dump();
+  };
+  for (const fs::path& f : {kSource / "scenarios/cornell_box.json", kGood / "all_events.json"}) {
+    SCOPED_TRACE(f.string());
+    const json base = read_json(f);
+    agree(base, f, "as is");
+    // An unknown key in every object the format defines.
+    std::vector<std::string> objects = {"", "/scene"};
+    if (base.contains("camera")) objects.push_back("/camera");
+    for (std::size_t i = 0; i < base.value("events", json::array()).size(); ++i) {
+      objects.push_back("/events/" + std::to_string(i));
+      if (base["events"][i].contains("keys")) objects.push_back("/events/" + std::to_string(i) + "/keys/0");
+      if (base["events"][i].contains("from")) objects.push_back("/events/" + std::to_string(i) + "/from");
+    }
+    for (std::size_t i = 0; i < base.value("checks", json::array()).size(); ++i)
+      if (K.check_keys.count(base["checks"][i]["name"])) objects.push_back("/checks/" + std::to_string(i));
+    for (const std::string& o : objects) {
+      json doc = base;
+      doc[json::json_pointer(o)]["zz_unknown"] = 1;
+      agree(doc, f, "unknown key in " + o);
+      EXPECT_FALSE(parser_accepts(doc, f)) << o;
+    }
+    // Every event re-typed as every other type; every check renamed.
+    for (std::size_t i = 0; i < base.value("events", json::array()).size(); ++i)
+      for (const std::string& t : K.event_types) {
+        json doc = base;
+        doc["events"][i]["type"] = t;
+        agree(doc, f, "event " + std::to_string(i) + " as " + t);
+        doc["events"][i].erase("frame");
+        agree(doc, f, "event " + std::to_string(i) + " as " + t + " without frame");
+      }
+    for (std::size_t i = 0; i < base.value("checks", json::array()).size(); ++i)
+      for (const std::string& c : K.check_names) {
+        json doc = base;
+        doc["checks"][i]["name"] = c;
+        bool repeated = false;  // uniqueness of names is beyond the schema
+        for (std::size_t j = 0; j < doc["checks"].size(); ++j) repeated = repeated || (j != i && doc["checks"][j]["name"] == c);
+        if (repeated) {
+          EXPECT_FALSE(parser_accepts(doc, f));
+          continue;
+        }
+        agree(doc, f, "check " + std::to_string(i) + " as " + c);
+      }
+    // Removing each top-level key; out-of-range and wrong-typed values.
+    for (auto it = base.begin(); it != base.end(); ++it) {
+      json doc = base;
+      doc.erase(it.key());
+      agree(doc, f, "without " + it.key());
+    }
+    const std::pair<const char*, json> values[] = {
+        {"/frames", 0}, {"/frames", 10000000}, {"/frames", 10000001}, {"/frames", -1}, {"/frames", 1.5},
+        {"/resolution", json::array({0, 1})}, {"/resolution", json::array({8192, 8192})},
+        {"/resolution", json::array({1, 2, 3})}, {"/seed", 4294967295u}, {"/seed", 4294967296u},
+        {"/profile", "solari-0.19"}, {"/mode", "fast"}, {"/samples_per_frame", 1025}, {"/name", "Bad Name"},
+        {"/scene", json{{"gltf", "x.gltf"}, {"generator", "cornell_box"}}}, {"/scene/params/albedo_scale", 2},
+        {"/capture", json::array({1, 1})}, {"/overrides", json::array()}, {"/events", json::object()}};
+    for (const auto& [ptr, value] : values) {
+      json doc = base;
+      doc[json::json_pointer(ptr)] = value;
+      if (std::string(ptr) == "/scene/params/albedo_scale") {
+        // Generator params are checked by build_scene, not the parser.
+        EXPECT_FALSE(v.valid(doc));
+        EXPECT_THROW(gi::build_scene(gi::parse_scenario(doc, f)), gi::InputError);
+        continue;
+      }
+      agree(doc, f, std::string(ptr) + " = " + value.dump());
+    }
+  }
+  EXPECT_GT(n, 100);
+}
