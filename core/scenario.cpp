@@ -71,7 +71,7 @@ const ScenarioKeys& scenario_keys() {
     k.mesh_generator_keys = {"generator", "params"};
     k.check_names = {"reference", "finite", "determinism", "cache_lifetime", "blend_lag", "jacobian", "cluster_ids"};
     k.check_keys = {
-        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "spp"}},
+        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp"}},
         {"finite", {"name"}},
     };
     k.cornell_box_params = {"light_scale", "albedo_scale", "blocks"};
@@ -376,7 +376,9 @@ CheckSpec parse_check(const Reader& r, const json& j, std::size_t index) {
     }
     if (j.contains("relmse_noise_factor")) r.number(j["relmse_noise_factor"], path + "/relmse_noise_factor", 0.0, 1e6);
     if (j.contains("energy_tolerance")) r.number(j["energy_tolerance"], path + "/energy_tolerance", 0.0, 1.0);
-    if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 1, 1u << 24);
+    if (j.contains("relmse_tolerance")) r.number(j["relmse_tolerance"], path + "/relmse_tolerance", 0.0, 1e6);
+    // At least 2: the two half-sample images estimate the reference's noise.
+    if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 2, 1u << 24);
   }
   return c;
 }
