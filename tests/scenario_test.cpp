@@ -208,8 +208,9 @@ TEST(Scenario, CornellBoxScenario) {
   EXPECT_EQ(s.seed, 1u);
   EXPECT_EQ(s.profile, "solari-0.18");
   EXPECT_EQ(s.mode, gi::RenderMode::Reference);
-  ASSERT_EQ(s.checks.size(), 1u);
+  ASSERT_EQ(s.checks.size(), 2u);
   EXPECT_EQ(s.checks[0].name, "finite");
+  EXPECT_EQ(s.checks[1].name, "reference");
   EXPECT_EQ(s.raw["description"], s.description);
   gi::Scene scene = gi::build_scene(s);
   EXPECT_TRUE(scene.find_instance("light"));
