@@ -767,6 +767,12 @@ class Importer {
       const double area = 0.5 * glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
       if (!(area > 1e-12)) ++zero;
     }
+    // An emitter with no area at all cannot emit: the scene would silently
+    // lose a light, so that is bad input. A few degenerate triangles in a
+    // real emitter are only stated (the renderers never pick them).
+    if (zero == mesh.triangle_count())
+      fail(np, "an emitter with non-zero area: all " + std::to_string(zero) + " emissive triangles of \"" + inst.name +
+                   "\" have zero area");
     if (zero)
       warn(np + " (\"" + inst.name + "\"): " + std::to_string(zero) + " of " + std::to_string(mesh.triangle_count()) +
            " emissive triangles have zero area: kept in the mesh, never sampled as lights");

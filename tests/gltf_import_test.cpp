@@ -285,15 +285,30 @@ TEST_F(GltfImport, GlbWithBinChunk) {
   EXPECT_THROW(gi::import_gltf(cut), gi::InputError);
 }
 
-TEST_F(GltfImport, ZeroAreaEmitterIsAWarning) {
+TEST_F(GltfImport, ZeroAreaEmitter) {
+  // One degenerate triangle beside a real one: stated, kept, never sampled.
   TinyGltf t;
-  t.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0};  // collinear
+  t.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0};
+  t.indices = {0, 1, 2, 0, 1, 3};  // the second is collinear
   json d = t.doc();
+  d["bufferViews"][1]["byteOffset"] = 48;
+  d["bufferViews"][0]["byteLength"] = 48;
+  d["bufferViews"][1]["byteLength"] = 12;
+  d["accessors"][0]["count"] = 4;
+  d["accessors"][1]["count"] = 6;
   d["materials"] = json::array({{{"emissiveFactor", {1, 1, 1}}}});
   d["meshes"][0]["primitives"][0]["material"] = 0;
-  const gi::Scene s = gi::import_gltf(write(d, "flat_light.gltf"));
-  EXPECT_EQ(s.meshes[0].triangle_count(), 1u);  // kept
+  const gi::Scene s = gi::import_gltf(write(d, "partly_flat_light.gltf"));
+  EXPECT_EQ(s.meshes[0].triangle_count(), 2u);  // kept
   EXPECT_TRUE(has_warning(s, "zero area")) << ::testing::PrintToString(s.warnings);
+
+  // An emitter whose every triangle is degenerate cannot emit: bad input.
+  TinyGltf flat;
+  flat.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0};
+  d = flat.doc();
+  d["materials"] = json::array({{{"emissiveFactor", {1, 1, 1}}}});
+  d["meshes"][0]["primitives"][0]["material"] = 0;
+  expect_error(write(d, "flat_light.gltf"), "/nodes/0", "zero area");
 }
 
 // ---- bad files: InputError with file and JSON path ---------------------------------

@@ -1,0 +1,7 @@
+// libFuzzer entry point for glTF files (see fuzz_targets.h).
+#include "tests/fuzz/fuzz_targets.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  gi::fuzz::gltf_input(data, size);
+  return 0;
+}
