@@ -73,8 +73,10 @@ const ScenarioKeys& scenario_keys() {
     k.check_keys = {
         {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp"}},
         {"finite", {"name"}},
+        {"cluster_ids", {"name", "cluster_bits", "triangle_bits", "count_only", "clusters_per_instance"}},
     };
     k.cornell_box_params = {"light_scale", "albedo_scale", "blocks"};
+    k.cliff_params = {"triangles", "seed", "width", "height", "depth"};
     return k;
   }();
   return keys;

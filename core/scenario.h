@@ -148,6 +148,7 @@ struct ScenarioKeys {
   // not listed here accept any parameters (their code validates them).
   std::map<std::string, std::vector<std::string>> check_keys;
   std::vector<std::string> cornell_box_params;
+  std::vector<std::string> cliff_params;        // scene generator "cliff" and spawn mesh generator "cliff"
 };
 const ScenarioKeys& scenario_keys();
 

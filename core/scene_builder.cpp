@@ -6,7 +6,9 @@
 
 #include "core/errors.h"
 #include "core/gltf_import.h"
+#include "core/scenes/cliff.h"
 #include "core/scenes/cornell_box.h"
+#include "core/scenes/di_scenes.h"
 
 namespace gi {
 
@@ -23,6 +25,44 @@ float param_number(const Scenario& s, const json& params, const char* key, doubl
   if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
     throw InputError(file_of(s), path, fmt::format("expected a number in [{}, {}], got {}", lo, hi, v.dump()));
   return v.get<float>();
+}
+
+// Unknown keys of a generator's params are errors at <base>/<key>.
+void only_keys(const Scenario& s, const json& params, const std::string& base, const std::string& generator,
+               const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
+  if (!params.is_object()) throw InputError(file_of(s), base, "expected an object, got " + params.dump());
+  for (auto it = params.begin(); it != params.end(); ++it)
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
+      throw InputError(file_of(s), base + "/" + json_pointer_token(it.key()),
+                       fmt::format("unknown {} parameter \"{}\"; expected one of: {}", generator, it.key(), list));
+}
+
+// The cliff's params (scene generator and mesh generator alike), under `base`.
+CliffOptions cliff_options(const Scenario& s, const json& params, const std::string& base) {
+  only_keys(s, params, base, "cliff", scenario_keys().cliff_params);
+  CliffOptions o;
+  auto number = [&](const char* key, double lo, double hi, float fallback) {
+    if (!params.contains(key)) return fallback;
+    const json& v = params[key];
+    if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
+      throw InputError(file_of(s), base + "/" + key, fmt::format("expected a number in [{}, {}], got {}", lo, hi, v.dump()));
+    return v.get<float>();
+  };
+  auto integer = [&](const char* key, std::uint64_t lo, std::uint64_t hi, std::uint32_t fallback) {
+    if (!params.contains(key)) return fallback;
+    const json& v = params[key];
+    if (!v.is_number_integer() || v.get<std::int64_t>() < std::int64_t(lo) || v.get<std::uint64_t>() > hi)
+      throw InputError(file_of(s), base + "/" + key, fmt::format("expected an integer in {}..{}, got {}", lo, hi, v.dump()));
+    return v.get<std::uint32_t>();
+  };
+  o.triangles = integer("triangles", 12, kCliffMaxTriangles, o.triangles);
+  o.seed = integer("seed", 0, 0xffffffffu, o.seed);
+  o.width = number("width", 0.01, 1e4, o.width);
+  o.height = number("height", 0.01, 1e4, o.height);
+  o.depth = number("depth", 0.01, 1e4, o.depth);
+  return o;
 }
 
 Scene build_generator(const Scenario& s) {
@@ -45,8 +85,20 @@ Scene build_generator(const Scenario& s) {
     }
     return make_cornell_box(o);
   }
+  if (s.scene.generator == "cliff") return make_cliff_scene(cliff_options(s, params, "/scene/params"));
+  // The DI scenes (core/scenes/di_scenes.h) take no parameters.
+  for (const auto& [name, make] : {std::pair{"di_many_lights", &make_di_many_lights},
+                                   std::pair{"di_occluder", &make_di_occluder},
+                                   std::pair{"di_packing_range", &make_di_packing_range}}) {
+    if (s.scene.generator != name) continue;
+    if (!params.empty())
+      throw InputError(file_of(s), "/scene/params/" + json_pointer_token(params.begin().key()),
+                       fmt::format("no parameters: {} takes none", name));
+    return make();
+  }
   throw InputError(file_of(s), "/scene/generator",
-                   fmt::format("expected a scene generator (one of: cornell_box), got \"{}\"", s.scene.generator));
+                   fmt::format("expected a scene generator (one of: cornell_box, cliff, di_many_lights, di_occluder, "
+                               "di_packing_range), got \"{}\"", s.scene.generator));
 }
 
 }  // namespace
@@ -64,8 +116,11 @@ Scene build_scene(const Scenario& s) {
 }
 
 GeneratedMesh generate_mesh(const MeshGeneratorSpec& spec, const Scenario& s, const std::string& json_path) {
+  if (spec.generator == "cliff")
+    return GeneratedMesh{make_cliff_mesh(cliff_options(s, spec.params, json_path + "/mesh/params")),
+                         make_cliff_material()};
   throw InputError(file_of(s), json_path + "/mesh/generator",
-                   fmt::format("unknown mesh generator \"{}\" (no mesh generator is implemented yet)", spec.generator));
+                   fmt::format("unknown mesh generator \"{}\" (expected one of: cliff)", spec.generator));
 }
 
 void validate_events(const Scenario& s, const Scene& initial) {

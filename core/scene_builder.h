@@ -7,7 +7,8 @@
 namespace gi {
 
 // Generators: "cornell_box" (params: light_scale ≥ 0, albedo_scale in
-// [0, 1.37] so that no albedo exceeds 1, blocks: bool). Otherwise
+// [0, 1.37] so that no albedo exceeds 1, blocks: bool); "cliff" (params:
+// triangles, seed, width, height, depth; core/scenes/cliff.h). Otherwise
 // scene.gltf is imported with import_gltf(). Throws InputError: unknown
 // generator (/scene/generator), bad params (/scene/params/<key>), glTF errors,
 // and whatever validate_events() rejects.
@@ -18,12 +19,12 @@ Scene build_scene(const Scenario& scenario);
 // name an instance (looked up first) or a directional light; instances and
 // materials exist in the initial scene or were spawned by an event applied
 // earlier; spawned names are new; spawn "of" names an existing instance;
-// spawn "mesh" generators exist (none yet: "unknown mesh generator").
+// spawn "mesh" generators exist ("cliff"; others: "unknown mesh generator").
 void validate_events(const Scenario& scenario, const Scene& initial);
 
 // A spawned mesh ("spawn" with "mesh": {"generator", "params"}): its mesh and
-// material. No mesh generator exists yet: always InputError at
-// <json_path>/mesh/generator, "unknown mesh generator".
+// material. Generators: "cliff" (the cliff scene's params, material "rock").
+// Others: InputError at <json_path>/mesh/generator, "unknown mesh generator".
 struct GeneratedMesh {
   Mesh mesh;
   Material material;

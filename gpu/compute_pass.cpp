@@ -1,5 +1,6 @@
 #include "gpu/compute_pass.h"
 
+#include <algorithm>
 #include <map>
 #include <utility>
 
@@ -28,6 +29,15 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
                          std::vector<DescriptorBinding> bindings, std::uint32_t push_constant_bytes)
     : device_(device.handle()), name_(std::move(name)), bindings_(std::move(bindings)),
       push_bytes_(push_constant_bytes) {
+  if (device.backend() == TraceBackend::bvh) {
+    const auto tlas = std::find_if(bindings_.begin(), bindings_.end(), [](const DescriptorBinding& b) {
+      return b.binding == BINDING_TLAS && b.type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    });
+    if (tlas != bindings_.end()) {
+      *tlas = {BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+      bindings_.push_back({BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+    }
+  }
   try {
     VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     smci.codeSize = spirv.size_bytes();
@@ -155,7 +165,14 @@ void ComputePass::bind_acceleration_structure(std::uint32_t binding, VkAccelerat
 }
 
 void ComputePass::bind_scene(const SceneResources& scene) {
-  bind_acceleration_structure(BINDING_TLAS, scene.tlas);
+  if (type_of(BINDING_TLAS) == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR) {
+    bind_acceleration_structure(BINDING_TLAS, scene.tlas);
+  } else {
+    if (!scene.bvh_nodes || !scene.bvh_triangles)
+      throw DeviceError(fmt::format("pass '{}': a bvh-backend pass bound without BVH buffers", name_));
+    bind_buffer(BINDING_BVH_NODES, *scene.bvh_nodes);
+    bind_buffer(BINDING_BVH_TRIANGLES, *scene.bvh_triangles);
+  }
   bind_buffer(BINDING_VERTICES, *scene.vertices);
   bind_buffer(BINDING_INDICES, *scene.indices);
   bind_buffer(BINDING_INSTANCES, *scene.instances);

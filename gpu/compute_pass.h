@@ -21,17 +21,24 @@ struct DescriptorBinding {
 };
 
 // What scene_bindings.glsl declares (bindings 0-6 of gpu/shaders/bindings.h).
+// On a Device of the bvh backend, ComputePass replaces the TLAS binding with
+// the BVH's node and triangle buffers, so passes list the same bindings for
+// either backend.
 std::vector<DescriptorBinding> scene_descriptor_bindings();
 
 // The resources behind those bindings.
 struct SceneResources {
-  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;  // rayquery backend
   const Buffer* vertices = nullptr;
   const Buffer* indices = nullptr;
   const Buffer* instances = nullptr;
   const Buffer* materials = nullptr;
   const Buffer* lights = nullptr;
   const Buffer* frame = nullptr;  // uniform FrameConstants
+  // bvh backend (gpu/bvh_buffers.h), in place of tlas; last so that
+  // positional initialisers of the fields above stay valid.
+  const Buffer* bvh_nodes = nullptr;
+  const Buffer* bvh_triangles = nullptr;
 };
 
 class ComputePass {

@@ -135,7 +135,22 @@ std::string join_lines(const std::vector<std::string>& lines) {
   return lines.empty() ? std::string("\n  (none)") : s;
 }
 
+bool is_lavapipe(VkPhysicalDevice pd) {
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(pd, &p);
+  return std::strstr(p.deviceName, "llvmpipe") != nullptr;
+}
+
 }  // namespace
+
+const char* backend_name(TraceBackend backend) { return backend == TraceBackend::bvh ? "bvh" : "rayquery"; }
+
+BackendRequest parse_backend_request(const std::string& text) {
+  if (text == "auto") return BackendRequest::automatic;
+  if (text == "rayquery") return BackendRequest::rayquery;
+  if (text == "bvh") return BackendRequest::bvh;
+  throw InputError("--backend", "", fmt::format("one of auto, rayquery, bvh; got \"{}\"", text));
+}
 
 nlohmann::json DeviceInfo::to_json() const {
   return nlohmann::json{{"name", name},
@@ -149,7 +164,9 @@ nlohmann::json DeviceInfo::to_json() const {
                         {"subgroup_size", subgroup_size},
                         {"lp_num_threads", lp_num_threads},
                         {"timestamp_period_ns", timestamp_period_ns},
-                        {"device_index", device_index}};
+                        {"device_index", device_index},
+                        {"ray_query", ray_query},
+                        {"backend", backend}};
 }
 
 std::vector<std::string> Device::list_devices() {
@@ -165,7 +182,7 @@ std::vector<std::string> Device::list_devices() {
   return out;
 }
 
-Device::Device(std::optional<int> index) {
+Device::Device(std::optional<int> index, BackendRequest request) {
   const char* env_validation = std::getenv("GIHARNESS_VALIDATION");
   if (env_validation && std::string(env_validation) == "1") {
     validation_ = layer_available("VK_LAYER_KHRONOS_validation");
@@ -179,7 +196,7 @@ Device::Device(std::optional<int> index) {
     if (index) {
       if (*index < 0 || *index >= int(devices.size()))
         throw DeviceError(fmt::format("--device {} is out of range; Vulkan devices:{}", *index, join_lines(names)));
-      if (!supports_ray_query(devices[*index]))
+      if (request == BackendRequest::rayquery && !supports_ray_query(devices[*index]))
         throw DeviceError(fmt::format("device {} has no ray query (needs {} + {} + {}); Vulkan devices:{}", *index,
                                       kDeviceExtensions[0], kDeviceExtensions[1], kDeviceExtensions[2],
                                       join_lines(names)));
@@ -188,16 +205,25 @@ Device::Device(std::optional<int> index) {
       for (std::size_t i = 0; i < devices.size() && chosen < 0; ++i) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(devices[i], &p);
-        if (std::strstr(p.deviceName, "llvmpipe") && supports_ray_query(devices[i])) chosen = int(i);
+        if (std::strstr(p.deviceName, "llvmpipe") &&
+            (request != BackendRequest::rayquery || supports_ray_query(devices[i])))
+          chosen = int(i);
       }
       for (std::size_t i = 0; i < devices.size() && chosen < 0; ++i)
         if (supports_ray_query(devices[i])) chosen = int(i);
+      // The bvh backend needs only Vulkan 1.2 compute (every device here).
+      if (chosen < 0 && request != BackendRequest::rayquery && !devices.empty()) chosen = 0;
       if (chosen < 0)
         throw DeviceError(fmt::format("no Vulkan device with ray query (lavapipe needs Mesa >= 24.1, "
                                       "mesa-vulkan-drivers from bookworm-backports); Vulkan devices:{}",
                                       join_lines(names)));
     }
     physical_ = devices[chosen];
+    const bool has_ray_query = supports_ray_query(physical_);
+    if (request == BackendRequest::bvh) backend_ = TraceBackend::bvh;
+    else if (request == BackendRequest::rayquery) backend_ = TraceBackend::rayquery;
+    else backend_ = (is_lavapipe(physical_) || !has_ray_query) ? TraceBackend::bvh : TraceBackend::rayquery;
+    const bool want_ray_query = backend_ == TraceBackend::rayquery;
     std::optional<std::uint32_t> family = compute_queue_family(physical_);
     if (!family) throw DeviceError(fmt::format("device {} has no compute queue", chosen));
     queue_family_ = *family;
@@ -208,7 +234,7 @@ Device::Device(std::optional<int> index) {
     VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
     driver.pNext = &subgroup;
-    subgroup.pNext = &as_props;
+    if (has_ray_query) subgroup.pNext = &as_props;  // only structures of extensions the device has
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     props.pNext = &driver;
     vkGetPhysicalDeviceProperties2(physical_, &props);
@@ -229,6 +255,8 @@ Device::Device(std::optional<int> index) {
     info_.lp_num_threads = threads && *threads ? threads : "default";
     info_.timestamp_period_ns = props.properties.limits.timestampPeriod;
     info_.device_index = chosen;
+    info_.ray_query = has_ray_query;
+    info_.backend = backend_name(backend_);
 
     // Features: bufferDeviceAddress -> accelerationStructure -> rayQuery (DESIGN §4).
     VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
@@ -237,10 +265,10 @@ Device::Device(std::optional<int> index) {
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &v12;
-    v12.pNext = &asf;
+    if (has_ray_query) v12.pNext = &asf;
     asf.pNext = &rq;
     vkGetPhysicalDeviceFeatures2(physical_, &features);
-    if (!v12.bufferDeviceAddress || !asf.accelerationStructure || !rq.rayQuery)
+    if (want_ray_query && (!v12.bufferDeviceAddress || !asf.accelerationStructure || !rq.rayQuery))
       throw DeviceError(fmt::format("device {} ({}) lacks bufferDeviceAddress/accelerationStructure/rayQuery",
                                     chosen, info_.name));
 
@@ -251,8 +279,8 @@ Device::Device(std::optional<int> index) {
     as_on.accelerationStructure = VK_TRUE;
     as_on.pNext = &rq_on;
     VkPhysicalDeviceVulkan12Features v12_on{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    v12_on.bufferDeviceAddress = VK_TRUE;
-    v12_on.pNext = &as_on;
+    v12_on.bufferDeviceAddress = v12.bufferDeviceAddress;
+    v12_on.pNext = want_ray_query ? &as_on : nullptr;
     VkPhysicalDeviceFeatures2 features_on{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features_on.features.shaderInt64 = features.features.shaderInt64;
     features_on.pNext = &v12_on;
@@ -266,8 +294,9 @@ Device::Device(std::optional<int> index) {
     dci.pNext = &features_on;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
-    dci.enabledExtensionCount = std::uint32_t(std::size(kDeviceExtensions));
-    dci.ppEnabledExtensionNames = kDeviceExtensions;
+    // The bvh backend enables no extension: it must run where none exist.
+    dci.enabledExtensionCount = want_ray_query ? std::uint32_t(std::size(kDeviceExtensions)) : 0u;
+    dci.ppEnabledExtensionNames = want_ray_query ? kDeviceExtensions : nullptr;
     check_vk(vkCreateDevice(physical_, &dci, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 
@@ -275,11 +304,13 @@ Device::Device(std::optional<int> index) {
       fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(vkGetDeviceProcAddr(device_, name));
       if (!fn) throw DeviceError(fmt::format("Vulkan: vkGetDeviceProcAddr({}) returned null", name));
     };
-    load(khr_.create_acceleration_structure, "vkCreateAccelerationStructureKHR");
-    load(khr_.destroy_acceleration_structure, "vkDestroyAccelerationStructureKHR");
-    load(khr_.get_acceleration_structure_build_sizes, "vkGetAccelerationStructureBuildSizesKHR");
-    load(khr_.cmd_build_acceleration_structures, "vkCmdBuildAccelerationStructuresKHR");
-    load(khr_.get_acceleration_structure_device_address, "vkGetAccelerationStructureDeviceAddressKHR");
+    if (want_ray_query) {
+      load(khr_.create_acceleration_structure, "vkCreateAccelerationStructureKHR");
+      load(khr_.destroy_acceleration_structure, "vkDestroyAccelerationStructureKHR");
+      load(khr_.get_acceleration_structure_build_sizes, "vkGetAccelerationStructureBuildSizesKHR");
+      load(khr_.cmd_build_acceleration_structures, "vkCmdBuildAccelerationStructuresKHR");
+      load(khr_.get_acceleration_structure_device_address, "vkGetAccelerationStructureDeviceAddressKHR");
+    }
 
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -327,6 +358,7 @@ Device& Device::operator=(Device&& other) noexcept {
     limits_ = other.limits_;
     min_scratch_alignment_ = other.min_scratch_alignment_;
     validation_ = other.validation_;
+    backend_ = other.backend_;
   }
   return *this;
 }

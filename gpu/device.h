@@ -1,6 +1,7 @@
 // The Vulkan device: instance, physical-device choice (lavapipe by default,
-// DESIGN §4), one compute queue with the ray-query extensions, one command
-// pool and a submit-and-wait helper. Everything else in gpu/ borrows it.
+// DESIGN §4), one compute queue (with the ray-query extensions only for the
+// `rayquery` tracing backend), one command pool and a submit-and-wait helper.
+// Everything else in gpu/ borrows it.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -17,6 +18,17 @@ namespace gi::gpu {
 void check_vk(VkResult result, const char* what);
 const char* vk_result_name(VkResult result);
 
+// How rays are traced (DESIGN §4): hardware/driver ray queries over
+// VK_KHR_acceleration_structure, or the compute-shader BVH (gpu/bvh_buffers.h,
+// gpu/shaders/trace_bvh.glsl), which needs nothing beyond Vulkan 1.2 compute.
+enum class TraceBackend { rayquery, bvh };
+// --backend: `automatic` picks bvh on lavapipe (2.5-3x faster there, DESIGN §4)
+// and on devices without ray query, rayquery elsewhere.
+enum class BackendRequest { automatic, rayquery, bvh };
+const char* backend_name(TraceBackend backend);
+// "auto", "rayquery" or "bvh"; throws gi::InputError naming --backend otherwise.
+BackendRequest parse_backend_request(const std::string& text);
+
 struct DeviceInfo {
   std::string name;            // VkPhysicalDeviceProperties::deviceName
   std::string driver_name;     // e.g. "llvmpipe"
@@ -30,6 +42,8 @@ struct DeviceInfo {
   std::string lp_num_threads;  // env LP_NUM_THREADS (lavapipe's thread count) or "default"
   double timestamp_period_ns = 0.0;
   int device_index = 0;
+  bool ray_query = false;      // the device offers VK_KHR_ray_query + acceleration structures
+  std::string backend;         // the tracing backend this Device was created for
 
   nlohmann::json to_json() const;
 };
@@ -46,9 +60,12 @@ struct KhrFunctions {
 class Device {
  public:
   // index: a physical-device index as list_devices() numbers them; without it,
-  // lavapipe ("llvmpipe") if present, else the first device with ray query.
+  // lavapipe ("llvmpipe") if present, else the first device with ray query
+  // (for bvh: else the first device). `rayquery` requires ray query and
+  // enables its extensions; `bvh` enables none of them, so it runs on devices
+  // without (stock bookworm Mesa 22, NVIDIA H100/H200).
   // Set GIHARNESS_VALIDATION=1 to enable VK_LAYER_KHRONOS_validation (when installed).
-  explicit Device(std::optional<int> index = std::nullopt);
+  explicit Device(std::optional<int> index = std::nullopt, BackendRequest backend = BackendRequest::rayquery);
   ~Device();
   Device(Device&& other) noexcept;
   Device& operator=(Device&& other) noexcept;
@@ -68,6 +85,7 @@ class Device {
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
   std::uint32_t min_scratch_offset_alignment() const { return min_scratch_alignment_; }
   bool validation_enabled() const { return validation_; }
+  TraceBackend backend() const { return backend_; }
 
   // Records with `record` into a fresh primary command buffer, submits it to
   // the compute queue and waits for it to finish.
@@ -88,6 +106,7 @@ class Device {
   VkPhysicalDeviceLimits limits_{};
   std::uint32_t min_scratch_alignment_ = 256;
   bool validation_ = false;
+  TraceBackend backend_ = TraceBackend::rayquery;
 };
 
 }  // namespace gi::gpu

@@ -16,7 +16,12 @@ namespace {
 constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 Buffer make_geometry_buffer(Device& device, const void* data, std::size_t bytes, const char* name) {
-  Buffer b(device, bytes, AccelerationStructures::geometry_buffer_usage(), name);
+  // Only the rayquery backend builds from these buffers (device addresses and
+  // build-input usage need extensions the bvh backend must not require).
+  const VkBufferUsageFlags usage = device.backend() == TraceBackend::rayquery
+                                       ? AccelerationStructures::geometry_buffer_usage()
+                                       : VkBufferUsageFlags(VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Buffer b(device, bytes, usage, name);
   b.upload_bytes(data, bytes);
   return b;
 }
@@ -31,17 +36,26 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
                                      "vertices")),
       indices_(make_geometry_buffer(device, geometry.indices.data(),
                                     geometry.indices.size() * sizeof(std::uint32_t), "indices")),
-      as_(device, geometry, vertices_, indices_),
       frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants"),
       timer_(device) {
   if (options.width == 0 || options.height == 0)
     throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));
+  // The tracing backend: its acceleration structure, and its shader variant
+  // for every pass compiled from here on (passes never know which runs).
+  compiler.set_global_defines(trace_backend_defines(device.backend()));
+  if (device.backend() == TraceBackend::bvh) bvh_.emplace(device, geometry);
+  else as_.emplace(device, geometry, vertices_, indices_);
   const std::size_t pixels = pixel_count();
   if (options_.gbuffer) {
     visibility_ = Buffer(device, pixels * sizeof(glm::uvec2), kStorage, "visibility");
     depth_ = Buffer(device, pixels * sizeof(float), kStorage, "depth");
     gbuffer_ = Buffer(device, pixels * sizeof(GBufferTexel), kStorage, "gbuffer");
     primary_visibility_.emplace(device, compiler);
+    // Default ID space: each mesh's LOD-0 meshlets (set_cluster_ids replaces it).
+    mesh_ranges_ = geometry.meshes;
+    triangle_count_ = geometry.indices.size() / 3;
+    for (std::uint32_t m = 0; m < geometry.meshes.size(); ++m)
+      mesh_clusters_.push_back(lod0_cluster_ids(geometry, m, 1u << cluster_layout_.triangle_bits));
     gbuffer_resolve_.emplace(device, compiler);
   }
   if (options_.reference) {
@@ -50,6 +64,10 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     nonfinite_ = Buffer(device, sizeof(std::uint32_t), kStorage, "reference non-finite count");
     reset_accumulation();
     reference_path_trace_.emplace(device, compiler);
+  }
+  if (options_.di) {
+    if (!options_.gbuffer) throw DeviceError("Renderer: realtime DI needs the G-buffer (RendererOptions::gbuffer)");
+    di_.emplace(device, compiler, *options_.di, options.width, options.height);
   }
 }
 
@@ -68,16 +86,31 @@ void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>&
   instances_.upload(scene.instances);
   materials_.upload(scene.materials);
   lights_.upload(scene.lights);
-  as_.update(scene.instances, visible);
-  if (as_.take_tlas_handle_changed()) bindings_dirty_ = true;
+  if (as_) as_->update(scene.instances, visible);
+  if (bvh_) bvh_->update(scene.instances, visible);
+  if (options_.gbuffer) {  // instance ID ranges follow the visible set
+    cluster_table_ = build_cluster_table(mesh_ranges_, triangle_count_, mesh_clusters_, scene.instances, visible,
+                                         cluster_layout_);
+    ensure_buffer(cluster_table_buffer_, cluster_table_.size() * sizeof(std::uint32_t), kStorage, "cluster table");
+    cluster_table_buffer_.upload(cluster_table_);
+  }
+  if (di_) di_->update_lights(scene);
+  if (as_ && as_->take_tlas_handle_changed()) bindings_dirty_ = true;
+  if (bvh_ && bvh_->take_buffers_changed()) bindings_dirty_ = true;
   scene_uploaded_ = true;
 }
 
 void Renderer::bind_passes() {
-  SceneResources scene{as_.tlas(), &vertices_, &indices_, &instances_, &materials_, &lights_, &frame_};
-  if (primary_visibility_) primary_visibility_->bind(scene, visibility_, depth_);
-  if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_);
+  SceneResources scene{as_ ? as_->tlas() : VK_NULL_HANDLE, &vertices_, &indices_, &instances_, &materials_,
+                       &lights_, &frame_};
+  if (bvh_) {
+    scene.bvh_nodes = &bvh_->nodes();
+    scene.bvh_triangles = &bvh_->triangles();
+  }
+  if (primary_visibility_) primary_visibility_->bind(scene, visibility_, depth_, cluster_table_buffer_);
+  if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_);
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
+  if (di_) di_->bind(scene, gbuffer_);
   bindings_dirty_ = false;
 }
 
@@ -101,6 +134,7 @@ void Renderer::render_frame(const FrameConstants& frame) {
     if (primary_visibility_) run("primary_visibility", *primary_visibility_);
     if (gbuffer_resolve_) run("gbuffer_resolve", *gbuffer_resolve_);
     if (reference_path_trace_) run("reference_path_trace", *reference_path_trace_);
+    if (di_) di_->record(cmd, timer_, /*accumulate=*/true);
   });
   timer_.resolve();
 }
@@ -109,7 +143,13 @@ void Renderer::require(bool enabled, const char* what) const {
   if (!enabled) throw DeviceError(fmt::format("Renderer: {} is not enabled in RendererOptions", what));
 }
 
+const DiPipeline& Renderer::di() const {
+  require(di_.has_value(), "realtime DI (RendererOptions::di)");
+  return *di_;
+}
+
 void Renderer::reset_accumulation() {
+  if (di_) di_->reset_accumulation();
   if (!options_.reference) return;
   reference_a_.fill_zero();
   reference_b_.fill_zero();
@@ -179,9 +219,28 @@ Image Renderer::gbuffer_layer(const std::string& name) const {
   return img;
 }
 
-std::vector<glm::uvec2> Renderer::visibility() const {
+std::vector<glm::uvec2> Renderer::packed_visibility() const {
   require(options_.gbuffer, "primary visibility (RendererOptions::gbuffer)");
   return visibility_.download<glm::uvec2>(pixel_count());
+}
+
+std::vector<glm::uvec2> Renderer::visibility() const {
+  std::vector<glm::uvec2> v = packed_visibility();
+  for (glm::uvec2& p : v) {
+    const DecodedVisibility d =
+        p.x == shader::VISIBILITY_MISS ? DecodedVisibility{} : decode_packed_visibility(cluster_table_, p.x);
+    p = d.valid ? glm::uvec2(d.instance, d.primitive) : glm::uvec2(shader::VISIBILITY_MISS);
+  }
+  return v;
+}
+
+void Renderer::set_cluster_ids(std::vector<MeshClusterIds> meshes, const ClusterIdLayout& layout) {
+  require(options_.gbuffer, "primary visibility (RendererOptions::gbuffer)");
+  if (meshes.size() != mesh_ranges_.size())
+    throw DeviceError(fmt::format("Renderer::set_cluster_ids: {} meshes, the renderer has {}", meshes.size(),
+                                  mesh_ranges_.size()));
+  mesh_clusters_ = std::move(meshes);
+  cluster_layout_ = layout;
 }
 
 std::vector<float> Renderer::depth() const {

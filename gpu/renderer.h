@@ -14,10 +14,13 @@
 
 #include <glm/glm.hpp>
 
+#include "core/clusters/cluster_table.h"
 #include "core/image.h"
 #include "core/scene_flatten.h"
 #include "gpu/acceleration_structures.h"
 #include "gpu/buffer.h"
+#include "gpu/bvh_buffers.h"
+#include "gpu/passes/di_pipeline.h"
 #include "gpu/passes/gbuffer_resolve.h"
 #include "gpu/passes/primary_visibility.h"
 #include "gpu/passes/reference_path_trace.h"
@@ -32,6 +35,7 @@ struct RendererOptions {
   std::uint32_t width = 0, height = 0;
   bool gbuffer = true;    // primary visibility + G-buffer resolve
   bool reference = true;  // GPU reference path tracer (accumulating)
+  std::optional<DiSettings> di;  // realtime mode: light tiles + ReSTIR DI (needs gbuffer)
 };
 
 class Renderer {
@@ -48,8 +52,10 @@ class Renderer {
   // Records, submits and waits: visibility, G-buffer, reference (each only if
   // enabled), with timestamps. frame.resolution_frame.xy must match the options.
   void render_frame(const FrameConstants& frame);
-  // Zeroes the reference halves and the non-finite counter.
+  // Zeroes the reference halves and the non-finite counter, and the DI sums.
   void reset_accumulation();
+  // Realtime DI (RendererOptions::di): DiPipeline::frame/mean per chain.
+  const DiPipeline& di() const;
 
   Image reference_mean() const;             // (A + B) / (nA + nB)
   Image reference_half(int which) const;    // 0 = A (even sample indices), 1 = B (odd), each its own mean
@@ -61,13 +67,24 @@ class Renderer {
   // "position", "emissive", "material" (metallic, perceptual roughness, reflectance).
   Image gbuffer_layer(const std::string& name) const;
   static const std::vector<std::string>& gbuffer_layer_names();
-  // Raw primary visibility: (instance, primitive) per pixel, row-major from the
-  // top left; (VISIBILITY_MISS, VISIBILITY_MISS) on a miss. Depth: hit t (0 on a miss).
+  // Primary visibility decoded from the packed cluster IDs (as the G-buffer
+  // resolve decodes them): (instance, primitive) per pixel, row-major from the
+  // top left; (VISIBILITY_MISS, VISIBILITY_MISS) on a miss or an ID naming no
+  // drawn triangle. Depth: hit t (0 on a miss).
   std::vector<glm::uvec2> visibility() const;
+  // Raw: x the packed `cluster_id << triangle_bits | triangle`, y the
+  // independent instance channel (core/clusters/cluster_ids.h).
+  std::vector<glm::uvec2> packed_visibility() const;
+  // The ID space (DESIGN §8): each mesh's clusters and the bit split. Takes
+  // effect at the next update_scene. Without it, each mesh's LOD-0 meshlets
+  // (25/7 bits) own the IDs.
+  void set_cluster_ids(std::vector<MeshClusterIds> meshes, const ClusterIdLayout& layout);
+  const std::vector<std::uint32_t>& cluster_table() const { return cluster_table_; }
   std::vector<float> depth() const;
 
   const std::vector<PassTiming>& last_timings() const { return timer_.timings(); }
-  std::uint32_t tlas_builds() const { return as_.tlas_builds(); }
+  // TLAS builds of either backend (ray-query TLAS or the BVH's CPU-built TLAS).
+  std::uint32_t tlas_builds() const { return as_ ? as_->tlas_builds() : bvh_->tlas_builds(); }
   const RendererOptions& options() const { return options_; }
 
  private:
@@ -79,14 +96,23 @@ class Renderer {
   Device& device_;
   RendererOptions options_;
   Buffer vertices_, indices_;
-  AccelerationStructures as_;
+  std::optional<AccelerationStructures> as_;  // rayquery backend
+  std::optional<BvhBuffers> bvh_;             // bvh backend
   Buffer instances_, materials_, lights_, frame_;
   Buffer visibility_, depth_, gbuffer_;
   Buffer reference_a_, reference_b_, nonfinite_;
   std::optional<PrimaryVisibility> primary_visibility_;
   std::optional<GBufferResolve> gbuffer_resolve_;
   std::optional<ReferencePathTrace> reference_path_trace_;
+  std::optional<DiPipeline> di_;
   GpuTimer timer_;
+  // Packed visibility IDs: per-mesh clusters, the table the passes read.
+  std::vector<MeshRange> mesh_ranges_;
+  std::size_t triangle_count_ = 0;
+  std::vector<MeshClusterIds> mesh_clusters_;
+  ClusterIdLayout cluster_layout_;
+  std::vector<std::uint32_t> cluster_table_;
+  Buffer cluster_table_buffer_;
   bool scene_uploaded_ = false;
   bool bindings_dirty_ = true;
 };

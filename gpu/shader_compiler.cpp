@@ -138,7 +138,9 @@ CompiledShader ShaderCompiler::compile_file(const fs::path& path, const std::vec
 }
 
 CompiledShader ShaderCompiler::compile_source(const std::string& source, const std::string& name_in,
-                                              const std::vector<ShaderDefine>& defines) {
+                                              const std::vector<ShaderDefine>& own_defines) {
+  std::vector<ShaderDefine> defines = global_defines_;
+  defines.insert(defines.end(), own_defines.begin(), own_defines.end());
   const fs::path root(GIHARNESS_SOURCE_DIR);
   const std::string name = fs::path(name_in).is_absolute() ? name_in : (root / name_in).lexically_normal().string();
   std::string preamble = "#extension GL_GOOGLE_include_directive : require\n";

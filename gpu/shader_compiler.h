@@ -53,12 +53,20 @@ class ShaderCompiler {
   CompiledShader compile_source(const std::string& source, const std::string& name,
                                 const std::vector<ShaderDefine>& defines = {});
 
+  // Defines added to every compile from now on, before the call's own: the
+  // tracing backend's variant (gpu/trace_backend.h's trace_backend_defines),
+  // which the Renderer sets from its Device, so that no pass knows which
+  // backend runs. Part of the cache key like any define.
+  void set_global_defines(std::vector<ShaderDefine> defines) { global_defines_ = std::move(defines); }
+  const std::vector<ShaderDefine>& global_defines() const { return global_defines_; }
+
   const std::filesystem::path& cache_dir() const { return cache_dir_; }  // holds spirv/
   std::uint64_t cache_hits() const { return hits_; }
   std::uint64_t cache_misses() const { return misses_; }
 
  private:
   std::filesystem::path cache_dir_;
+  std::vector<ShaderDefine> global_defines_;
   std::uint64_t hits_ = 0;
   std::uint64_t misses_ = 0;
 };

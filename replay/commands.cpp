@@ -37,9 +37,11 @@ void Commands::add_to(CLI::App& app) {
   run_->add_option("--seed", run_options_.seed, "override the seed");
   run_->add_option("--device", run_options_.device, "Vulkan device index (see 'giharness devices')");
   run_->add_option("--backend", run_options_.backend, "tracing backend")
-      ->check(CLI::IsMember({"auto", "rayquery"}));
+      ->check(CLI::IsMember({"auto", "rayquery", "bvh"}));
   run_->add_option("--capture", capture_list_, "frames to capture as EXR, e.g. 10,63");
   run_->add_option("--out", run_options_.out_dir, "output directory")->capture_default_str();
+  run_->add_option("--profile", run_options_.profile, "profile name (scenarios/profiles) or file, instead of the scenario's");
+  run_->add_option("--set", run_options_.sets, "override one profile value, key=value (repeatable)");
 
   reference_ = app.add_subcommand("reference", "render a scenario's frame with the Embree reference path tracer");
   reference_->add_option("scenario", reference_options_.scenario, "scenario JSON file")->required();
@@ -52,8 +54,43 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--suite", nightly_options_.suite, "directory of scenario files")->capture_default_str();
   nightly_->add_option("--out", nightly_options_.out_dir, "output directory")->capture_default_str();
   nightly_->add_option("--device", nightly_options_.device, "Vulkan device index");
+  nightly_->add_option("--baseline", nightly_options_.baseline_dir, "baseline root (a folder per device class)")
+      ->capture_default_str();
+  nightly_->add_option("--shard", nightly_options_.shard, "run shard i of n (i/n); merge with 'giharness merge'");
+  nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
+  nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");
+  nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
+
+  baseline_ = app.add_subcommand("baseline", "manage nightly baselines");
+  baseline_update_ = baseline_->add_subcommand("update", "write a nightly's figures as the baselines of its device class");
+  baseline_update_->add_option("--from", baseline_options_.from, "the nightly's out directory")->required();
+  baseline_update_->add_option("--baseline", baseline_options_.baseline_dir, "baseline root")->capture_default_str();
+  baseline_->require_subcommand(1);
+
+  merge_ = app.add_subcommand("merge", "merge nightly shards into one suite with one report");
+  merge_->add_option("inputs", merge_options_.inputs, "shard out directories")->required();
+  merge_->add_option("--out", merge_options_.out_dir, "output directory")->capture_default_str();
+  merge_->add_option("--junit", merge_options_.junit, "JUnit XML file (default <out>/junit.xml)");
+
+  sweep_ = app.add_subcommand("sweep", "vary parameters and report error against ms/frame, with Embree at equal time");
+  sweep_->add_option("scenario", sweep_options_.scenario, "scenario JSON file")->required();
+  sweep_->add_option("--vary", sweep_options_.vary, "key=v1,v2,... (repeatable; the cartesian product runs)")
+      ->required();
+  sweep_->add_option("--out", sweep_options_.out_dir, "output directory")->capture_default_str();
+  sweep_->add_option("--device", sweep_options_.device, "Vulkan device index");
+  sweep_->add_option("--reference-spp", sweep_options_.reference_spp, "spp of the converged Embree reference");
 
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
+
+  bench_ = add_bench_subcommand(app, bench_options_);  // replay/bench.cpp
+
+  clusters_ = app.add_subcommand("clusters", "build the cluster DAG of a mesh or a scenario's meshes; per-level table");
+  clusters_->add_option("input", clusters_options_.input,
+                        "scenario (.json), glTF (.gltf/.glb) or mesh generator, e.g. cliff:triangles=1000000")
+      ->required();
+  clusters_->add_flag("--json", clusters_options_.json, "print JSON instead of the table");
+  clusters_->add_option("--max-triangles", clusters_options_.max_triangles, "triangles per cluster (multiple of 4)")
+      ->capture_default_str();
 }
 
 int Commands::execute() {
@@ -65,6 +102,11 @@ int Commands::execute() {
   if (reference_->parsed()) return run_reference_command(reference_options_);
   if (nightly_->parsed()) return run_nightly(nightly_options_);
   if (devices_->parsed()) return list_devices_command();
+  if (baseline_update_->parsed()) return run_baseline_update(baseline_options_);
+  if (merge_->parsed()) return run_merge(merge_options_);
+  if (sweep_->parsed()) return run_sweep(sweep_options_);
+  if (clusters_->parsed()) return run_clusters_command(clusters_options_);
+  if (bench_->parsed()) return run_bench(bench_options_);
   return 2;
 }
 

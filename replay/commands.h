@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "replay/bench.h"
 #include "replay/run_scenario.h"
 
 namespace gi {
@@ -25,9 +26,44 @@ struct NightlyOptions {
   std::filesystem::path suite = "scenarios";
   std::filesystem::path out_dir = "out/nightly";
   std::optional<int> device;
+  std::filesystem::path baseline_dir = "reports/baselines";  // <dir>/<device class>/<scenario>.json
+  std::string shard;              // "i/n": every n-th scenario from the i-th (sorted by file name)
+  std::filesystem::path junit;    // default <out>/junit.xml
+  bool resume = false;            // keep completed scenarios of <out>/summary.json
+  bool update_baseline = false;   // write this run's figures as the baseline
+};
+
+struct BaselineUpdateOptions {
+  std::filesystem::path from;     // a nightly's out dir
+  std::filesystem::path baseline_dir = "reports/baselines";
+};
+
+struct MergeOptions {
+  std::vector<std::filesystem::path> inputs;  // shard out dirs
+  std::filesystem::path out_dir = "out/nightly";
+  std::filesystem::path junit;
+};
+
+struct SweepOptions {
+  std::filesystem::path scenario;
+  std::vector<std::string> vary;  // "key=v1,v2,…", repeated: the cartesian product
+  std::filesystem::path out_dir = "out/sweep";
+  std::optional<int> device;
+  std::optional<std::uint32_t> reference_spp;  // converged reference (default: the reference check's, else 1024)
+};
+
+int run_baseline_update(const BaselineUpdateOptions& options);  // replay/nightly.cpp
+int run_merge(const MergeOptions& options);                     // replay/merge.cpp
+int run_sweep(const SweepOptions& options);                     // replay/sweep.cpp
+
+struct ClustersCommandOptions {
+  std::filesystem::path input;  // scenario, glTF file, or "cliff[:key=value,...]"
+  bool json = false;
+  std::uint32_t max_triangles = 128;
 };
 
 int run_reference_command(const ReferenceCommandOptions& options);
+int run_clusters_command(const ClustersCommandOptions& options);  // replay/clusters_command.cpp
 int run_nightly(const NightlyOptions& options);
 int list_devices_command();
 
@@ -41,11 +77,22 @@ class Commands {
   CLI::App* reference_ = nullptr;
   CLI::App* nightly_ = nullptr;
   CLI::App* devices_ = nullptr;
+  CLI::App* baseline_ = nullptr;
+  CLI::App* baseline_update_ = nullptr;
+  CLI::App* merge_ = nullptr;
+  CLI::App* sweep_ = nullptr;
+  CLI::App* clusters_ = nullptr;
+  CLI::App* bench_ = nullptr;
   std::filesystem::path scenario_path_;
   RunOptions run_options_;
   std::string capture_list_;
   ReferenceCommandOptions reference_options_;
   NightlyOptions nightly_options_;
+  BaselineUpdateOptions baseline_options_;
+  MergeOptions merge_options_;
+  SweepOptions sweep_options_;
+  ClustersCommandOptions clusters_options_;
+  BenchOptions bench_options_;
 };
 
 }  // namespace gi

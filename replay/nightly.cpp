@@ -1,7 +1,20 @@
-// `giharness nightly`: every scenario of a suite, one summary per scenario and
-// one for the suite. Baselines, HTML, JUnit and sharding come later (DESIGN §10).
+// `giharness nightly` (DESIGN §10): every scenario of a suite (or of one
+// shard of it), each compared with its baseline; summary.json per scenario
+// and for the suite, JUnit XML and the HTML report. Exit 1 on a failed check
+// or a regression.
+//
+// Interruption: the first SIGINT/SIGTERM lets the running scenario finish,
+// marks the rest "not_run", writes the reports and exits 3; a second one
+// kills at once (every file is written then renamed, so what is on disk stays
+// valid). `--resume` keeps the completed scenarios of <out>/summary.json and
+// runs the rest.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <csignal>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -11,73 +24,270 @@
 #include "core/scenario.h"
 #include "gpu/device.h"
 #include "replay/commands.h"
+#include "reports/baseline_store.h"
+#include "reports/figures.h"
 #include "reports/json_figures.h"
+#include "reports/regression.h"
+#include "reports/suite_report.h"
 #include "reports/summary.h"
 
 namespace gi {
+namespace {
 
-int run_nightly(const NightlyOptions& o) {
-  if (!std::filesystem::is_directory(o.suite))
-    throw InputError(o.suite.string(), "", "expected a directory of scenario files");
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void on_stop_signal(int sig) {
+  g_stop_signal.store(sig);
+  std::signal(sig, SIG_DFL);  // a second signal ends the process
+}
+
+// Installs the handlers for the nightly's lifetime only.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal.store(0);
+    old_int_ = std::signal(SIGINT, on_stop_signal);
+    old_term_ = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, old_int_);
+    std::signal(SIGTERM, old_term_);
+  }
+  bool requested() const { return g_stop_signal.load() != 0; }
+
+ private:
+  void (*old_int_)(int) = SIG_DFL;
+  void (*old_term_)(int) = SIG_DFL;
+};
+
+std::vector<std::filesystem::path> suite_files(const std::filesystem::path& suite) {
+  if (!std::filesystem::is_directory(suite))
+    throw InputError(suite.string(), "", "expected a directory of scenario files");
   std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(o.suite))
+  for (const auto& entry : std::filesystem::directory_iterator(suite))
     if (entry.is_regular_file() && entry.path().extension() == ".json" && entry.path().filename() != "schema.json")
       files.push_back(entry.path());
   std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(o.suite.string(), "", "expected at least one *.json scenario");
+  if (files.empty()) throw InputError(suite.string(), "", "expected at least one *.json scenario");
+  return files;
+}
+
+struct ScenarioOutcome {
+  nlohmann::json summary;  // empty when the scenario did not run
+};
+
+// Runs one scenario and fills its suite row.
+ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
+  ScenarioOutcome outcome;
+  int code = 0;
+  row.erase("error");
+  try {
+    const Scenario scenario = load_scenario(file);
+    row["name"] = scenario.name;
+    RunOptions ro;
+    ro.device = o.device;
+    ro.out_dir = o.out_dir / scenario.name;
+    ro.quiet = true;
+    const RunResult r = run_scenario(scenario, ro);
+    code = r.exit_code;
+    outcome.summary = r.summary;
+    row["summary"] = (std::filesystem::path(scenario.name) / "summary.json").string();
+    row["checks"] = nlohmann::json::array();
+    for (const CheckResult& c : r.checks)
+      row["checks"].push_back({{"name", c.name},
+                               {"verdict", to_string(c.verdict)},
+                               {"message", c.message},
+                               {"limits", c.limits},
+                               {"first_failing_frame", c.first_failing_frame ? nlohmann::json(*c.first_failing_frame)
+                                                                             : nlohmann::json(nullptr)}});
+  } catch (const InputError& e) {
+    code = 2;
+    row["error"] = e.what();
+  } catch (const DeviceError& e) {
+    code = 3;
+    row["error"] = e.what();
+  } catch (const std::exception& e) {
+    // One scenario's internal error must not lose the rest of the night.
+    code = 3;
+    row["error"] = std::string("internal error: ") + e.what();
+  }
+  row["exit_code"] = code;
+  row["verdict"] = code == 0 ? "pass" : code == 1 ? "fail" : "error";
+  return outcome;
+}
+
+// Compares a completed scenario with its baseline; a regression makes the
+// row fail (exit 1) even when every check passed.
+void compare_row(const nlohmann::json& summary, const std::filesystem::path& class_dir, nlohmann::json& row) {
+  const std::string name = summary["scenario"]["name"];
+  const std::optional<ScenarioFigures> baseline = read_baseline(class_dir, name);
+  if (!baseline) {
+    row["baseline_status"] = "no_baseline";
+    row["regressions"] = nlohmann::json::array();
+    return;
+  }
+  const BaselineComparison cmp = compare_to_baseline(*baseline, extract_figures(summary), load_tolerance_rules(class_dir));
+  row["baseline_status"] = "compared";
+  row["baseline"] = baseline_file(class_dir, name).string();
+  row["figures_compared"] = cmp.compared;
+  row["regressions"] = nlohmann::json::array();
+  for (const FigureDelta& d : cmp.deltas) row["regressions"].push_back(d.to_json());
+  if (cmp.regressions() > 0) {
+    row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
+    if (row["verdict"] == "pass") row["verdict"] = "regressed";
+  }
+}
+
+// "i/n" with 1 ≤ i ≤ n.
+std::pair<int, int> parse_shard(const std::string& text) {
+  int i = 0, n = 0;
+  char slash = 0;
+  std::istringstream in(text);
+  if (!(in >> i >> slash >> n) || slash != '/' || i < 1 || n < 1 || i > n || !in.eof())
+    throw InputError("--shard", "", "expected i/n with 1 <= i <= n, got \"" + text + "\"");
+  return {i, n};
+}
+
+std::string progress_line(std::size_t k, std::size_t total, const nlohmann::json& row, double seconds, double eta) {
+  std::size_t passed = 0, checks = 0, regressions = 0;
+  for (const auto& c : row.value("checks", nlohmann::json::array())) {
+    ++checks;
+    passed += c.value("verdict", "") == "pass";
+  }
+  for (const auto& d : row.value("regressions", nlohmann::json::array())) regressions += d.value("status", "") != "improved";
+  return fmt::format("[{}/{}] {:<28} {:<9} checks {}/{}  regressions {}  {:.1f} s  (eta {:.0f} s)", k, total,
+                     row.value("name", row.value("file", "?")), row.value("verdict", "?"), passed, checks, regressions,
+                     seconds, eta);
+}
+
+}  // namespace
+
+int run_nightly(const NightlyOptions& o) {
+  std::vector<std::filesystem::path> files = suite_files(o.suite);
+  nlohmann::json shard_info;
+  if (!o.shard.empty()) {
+    const auto [i, n] = parse_shard(o.shard);
+    std::vector<std::filesystem::path> mine;
+    for (std::size_t k = 0; k < files.size(); ++k)
+      if (static_cast<int>(k % static_cast<std::size_t>(n)) == i - 1) mine.push_back(files[k]);
+    files = mine;
+    shard_info = {{"index", i}, {"count", n}};
+  }
+
+  nlohmann::json suite;
+  const std::filesystem::path summary_path = o.out_dir / "summary.json";
+  if (o.resume && std::filesystem::exists(summary_path)) {
+    try {
+      suite = nlohmann::json::parse(std::ifstream(summary_path));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(summary_path.string(), "", std::string("a nightly summary to resume (") + e.what() + ")");
+    }
+  }
+  // Completed rows of a resumed night, by scenario file.
+  std::map<std::string, nlohmann::json> done;
+  if (suite.is_object())
+    for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
+      if (row.value("status", "") == "complete" &&
+          (!row.contains("summary") || std::filesystem::exists(o.out_dir / row["summary"].get<std::string>())))
+        done[row.value("file", "")] = row;
 
   const auto start = std::chrono::steady_clock::now();
-  nlohmann::json suite;
-  suite["schema_version"] = 1;
-  suite["suite"] = o.suite.string();
-  suite["build"] = build_info();
-  suite["scenarios"] = nlohmann::json::array();
-  int worst = 0;
-  std::size_t index = 0;
+  suite = {{"schema_version", 1},
+           {"suite", o.suite.string()},
+           {"build", build_info()},
+           {"baseline_dir", o.baseline_dir.string()},
+           {"scenarios", nlohmann::json::array()}};
+  if (!shard_info.is_null()) suite["shard"] = shard_info;
   for (const std::filesystem::path& file : files) {
-    ++index;
-    nlohmann::json row = {{"file", file.string()}};
+    const auto it = done.find(file.string());
+    suite["scenarios"].push_back(it != done.end() ? it->second
+                                                  : nlohmann::json{{"file", file.string()}, {"status", "pending"}});
+  }
+  if (!done.empty()) spdlog::info("resuming: {} of {} scenarios already complete", done.size(), files.size());
+
+  StopSignals stop;
+  std::size_t k = 0, ran = 0;
+  double ran_seconds = 0;
+  std::size_t pending = files.size() - std::min(done.size(), files.size());
+  for (nlohmann::json& row : suite["scenarios"]) {
+    ++k;
+    if (row["status"] == "complete") continue;
+    if (stop.requested()) break;
     const auto t0 = std::chrono::steady_clock::now();
-    int code = 0;
-    try {
-      const Scenario scenario = load_scenario(file);
-      row["name"] = scenario.name;
-      spdlog::info("[{}/{}] {}", index, files.size(), scenario.name);
-      RunOptions ro;
-      ro.device = o.device;
-      ro.out_dir = o.out_dir / scenario.name;
-      const RunResult r = run_scenario(scenario, ro);
-      code = r.exit_code;
-      row["summary"] = (std::filesystem::path(scenario.name) / "summary.json").string();
-      row["checks"] = nlohmann::json::array();
-      for (const CheckResult& c : r.checks)
-        row["checks"].push_back({{"name", c.name}, {"verdict", to_string(c.verdict)}, {"message", c.message}});
-      if (!suite.contains("device")) suite["device"] = r.summary["device"];
-    } catch (const InputError& e) {
-      code = 2;
-      row["error"] = e.what();
-      spdlog::error("{}", e.what());
-    } catch (const DeviceError& e) {
-      code = 3;
-      row["error"] = e.what();
-      spdlog::error("{}", e.what());
+    spdlog::info("[{}/{}] {} ...", k, files.size(), row["file"].get<std::string>());
+    const ScenarioOutcome outcome = run_one(row["file"].get<std::string>(), o, row);
+    if (!outcome.summary.is_null()) {
+      const nlohmann::json device = outcome.summary.value("device", nlohmann::json::object());
+      const std::string cls = device_class(device);
+      if (!suite.contains("device") && !device.empty()) {
+        suite["device"] = device;
+        suite["device_class"] = cls;
+      }
+      compare_row(outcome.summary, o.baseline_dir / cls, row);
+      if (o.update_baseline) write_baseline(o.baseline_dir / cls, outcome.summary);
     }
-    row["exit_code"] = code;
-    row["verdict"] = code == 0 ? "pass" : code == 1 ? "fail" : "error";
-    row["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    suite["scenarios"].push_back(row);
-    // Severity order: a device error outranks bad input, which outranks a failed check.
-    worst = std::max(worst, code);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    row["wall_seconds"] = json_figure(seconds);
+    row["status"] = "complete";
+    ++ran;
+    ran_seconds += seconds;
+    --pending;
+    spdlog::log(row.value("exit_code", 0) == 0 ? spdlog::level::info : spdlog::level::err, "{}",
+                progress_line(k, files.size(), row, seconds, ran_seconds / double(ran) * double(pending)));
     // Rewritten after every scenario, so an interrupted night leaves a valid file.
-    write_json_file(o.out_dir / "summary.json", suite);
+    write_json_file(summary_path, suite);
+  }
+  const bool unfinished = std::any_of(suite["scenarios"].begin(), suite["scenarios"].end(),
+                                      [](const nlohmann::json& r) { return r["status"] != "complete"; });
+  if (stop.requested() && unfinished) {  // a signal during the last scenario loses nothing
+    suite["interrupted"] = true;
+    for (nlohmann::json& row : suite["scenarios"])
+      if (row["status"] != "complete") row["status"] = "not_run";
+    spdlog::warn("interrupted by signal {}: {} scenarios not run; `--resume` continues", g_stop_signal.load(),
+                 std::count_if(suite["scenarios"].begin(), suite["scenarios"].end(),
+                               [](const nlohmann::json& r) { return r["status"] != "complete"; }));
   }
   suite["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  suite["exit_code"] = worst;
-  write_json_file(o.out_dir / "summary.json", suite);
-  for (const auto& row : suite["scenarios"])
-    spdlog::info("{:<28} {}", row.value("name", row["file"].get<std::string>()), row["verdict"].get<std::string>());
-  spdlog::info("suite summary: {}", (o.out_dir / "summary.json").string());
-  return worst;
+  if (!suite.contains("device_class")) suite["device_class"] = "unknown";
+  const std::filesystem::path class_dir = o.baseline_dir / suite["device_class"].get<std::string>();
+  suite["baseline_status"] = std::filesystem::is_directory(class_dir) ? "found" : "none for this device class";
+  if (o.update_baseline) spdlog::info("baselines written to {}", class_dir.string());
+  const int code = finish_suite(o.out_dir, suite, o.junit);
+  std::size_t regressions = 0;
+  for (const nlohmann::json& row : suite["scenarios"])
+    for (const auto& d : row.value("regressions", nlohmann::json::array())) {
+      if (d.value("status", "") == "improved") continue;
+      ++regressions;
+      spdlog::error("regression: {} {}: baseline {}, measured {}, tolerance {}", row.value("name", "?"),
+                    d.value("metric", ""), d["baseline"].dump(), d["measured"].dump(), d.value("tolerance", ""));
+    }
+  if (suite["baseline_status"] != "found")
+    spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
+                 "update --from {}`)", class_dir.string(), o.out_dir.string());
+  spdlog::info("suite {}: exit {}, {} regressions; report {}; junit {}", suite["verdict"].get<std::string>(), code,
+               regressions, (o.out_dir / "report.html").string(), suite["junit"].get<std::string>());
+  return code;
+}
+
+int run_baseline_update(const BaselineUpdateOptions& o) {
+  const std::filesystem::path summary_path = o.from / "summary.json";
+  nlohmann::json suite;
+  try {
+    suite = nlohmann::json::parse(std::ifstream(summary_path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(summary_path.string(), "", std::string("a nightly summary (") + e.what() + ")");
+  }
+  std::size_t written = 0;
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
+    if (row.value("status", "") != "complete" || row.contains("error") || !row.contains("summary")) continue;
+    const nlohmann::json s = nlohmann::json::parse(std::ifstream(o.from / row["summary"].get<std::string>()));
+    const std::filesystem::path class_dir = o.baseline_dir / device_class(s.value("device", nlohmann::json::object()));
+    write_baseline(class_dir, s);
+    spdlog::info("baseline {}", baseline_file(class_dir, s["scenario"]["name"]).string());
+    ++written;
+  }
+  if (written == 0) throw InputError(summary_path.string(), "/scenarios", "at least one completed scenario");
+  return 0;
 }
 
 int list_devices_command() {

@@ -19,7 +19,11 @@
 #include "gpu/device.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
+#include "replay/checks/cluster_ids_check.h"
+#include "replay/checks/realtime_reference_check.h"
 #include "replay/checks/reference_check.h"
+#include "replay/realtime_settings.h"
+#include "core/profile.h"
 #include "replay/events.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
@@ -29,7 +33,7 @@ namespace {
 
 // Checks this build can run; the others are accepted by the scenario format
 // (DESIGN §6) but refused here with a clear message rather than skipped.
-const std::set<std::string> kImplementedChecks = {"reference", "finite"};
+const std::set<std::string> kImplementedChecks = {"reference", "finite", "cluster_ids"};
 
 std::vector<bool> visibility_of(const Scene& scene) {
   std::vector<bool> v;
@@ -57,14 +61,16 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   const std::uint32_t seed = options.seed.value_or(scenario.seed);
   const std::uint32_t width = scenario.resolution[0], height = scenario.resolution[1];
   if (frames == 0) throw InputError("--frames", "", "expected a frame count of at least 1");
-  if (scenario.mode != RenderMode::Reference)
-    throw InputError(scenario.file.string(), "/mode",
-                     "expected \"reference\": this build has the GPU reference mode only (the realtime "
-                     "pipeline is not built yet)");
+  // cluster_ids "count_only": walk the events and count IDs; no device, nothing drawn.
+  if (const CheckSpec* spec = scenario.find_check("cluster_ids"); spec && cluster_ids_params(*spec, scenario).count_only)
+    return run_cluster_ids_count_only(scenario, frames, options);
+  // Realtime mode: the DI signal (light tiles + ReSTIR DI) under the resolved profile.
+  const bool realtime = scenario.mode == RenderMode::Realtime;
+  const Profile profile = resolve_profile(scenario, options.profile, options.sets);
   for (const CheckSpec& c : scenario.checks)
     if (!kImplementedChecks.count(c.name))
       throw InputError(scenario.file.string(), c.json_path + "/name",
-                       fmt::format("a check this build implements (reference, finite); \"{}\" is not built yet",
+                       fmt::format("a check this build implements (reference, finite, cluster_ids); \"{}\" is not built yet",
                                    c.name));
 
   const Scene initial = build_scene(scenario);
@@ -77,20 +83,40 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     if (f >= frames) throw InputError(scenario.file.string(), "/capture", fmt::format("frames below {}", frames));
 
   std::optional<ReferenceCheck> reference_check;
-  if (const CheckSpec* spec = scenario.find_check("reference"))
+  std::optional<RealtimeReferenceCheck> realtime_check;
+  if (const CheckSpec* spec = scenario.find_check("reference"); spec && realtime)
+    realtime_check.emplace(reference_check_params(*spec, scenario, frames), seed, cache_root() / "reference",
+                           options.out_dir);
+  else if (spec)
     reference_check.emplace(reference_check_params(*spec, scenario, frames), seed, cache_root() / "reference",
                             options.out_dir);
   const bool finite_check = scenario.has_check("finite");
+  // Walks the spawns first: an overflowing spawn is named before anything is drawn.
+  std::optional<ClusterIdsCheck> cluster_ids_check;
+  if (const CheckSpec* spec = scenario.find_check("cluster_ids")) {
+    cluster_ids_check.emplace(cluster_ids_params(*spec, scenario), scenario, initial, frames);
+    if (const auto& o = cluster_ids_check->overflow())
+      spdlog::error("{}: cluster_ids: spawn {} ({}, frame {}) will overflow {} cluster bits: {} > {}", scenario.name,
+                    o->instance, o->event, o->frame, cluster_ids_check->params().layout.cluster_bits, o->ids_after,
+                    o->limit);
+  }
 
-  gpu::Device device(options.device);
+  gpu::Device device(options.device, gpu::parse_backend_request(options.backend));
   gpu::ShaderCompiler compiler(cache_root() / "spirv");
   FlatGeometry geometry = flatten_geometry(scene);
   gpu::RendererOptions renderer_options;
   renderer_options.width = width;
   renderer_options.height = height;
-  renderer_options.gbuffer = !captures.empty();  // only what this scenario uses
-  renderer_options.reference = true;
+  renderer_options.gbuffer = !captures.empty() || cluster_ids_check;  // only what this scenario uses
+  renderer_options.reference = !realtime;
+  if (realtime) {
+    renderer_options.gbuffer = true;
+    renderer_options.di =
+        di_settings_from_profile(profile, flatten_instances(scene, geometry), realtime_check ? 2u : 1u);
+  }
   auto renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
+  if (cluster_ids_check)
+    renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry), cluster_ids_check->params().layout);
   FlatInstances flat = flatten_instances(scene, geometry);
   renderer->update_scene(flat, visibility_of(scene));
 
@@ -109,6 +135,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     if (changes.geometry) {
       geometry = flatten_geometry(scene);
       renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
+      if (cluster_ids_check)
+        renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry),
+                                  cluster_ids_check->params().layout);
     }
     if (changes.any()) {
       flat = flatten_instances(scene, geometry);
@@ -139,21 +168,28 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       pass_ms[t.name].push_back(t.ms);
       timings[t.name] = json_figure(t.ms);
     }
-    last_mean = renderer->reference_mean();
+    last_mean = realtime ? renderer->di().frame(0) : renderer->reference_mean();
+    const std::uint64_t nonfinite_samples = realtime ? 0 : renderer->reference_nonfinite_samples();
     const std::uint64_t nonfinite_pixels = count_nonfinite(last_mean);
     nonfinite_pixels_total += nonfinite_pixels;
-    if ((nonfinite_pixels > 0 || renderer->reference_nonfinite_samples() > 0) && !first_nonfinite_frame)
+    if ((nonfinite_pixels > 0 || nonfinite_samples > 0) && !first_nonfinite_frame)
       first_nonfinite_frame = frame;
     per_frame.push_back({{"frame", frame},
                          {"window_start", window_start},
                          {"window_samples", window_samples},
                          {"mean_luminance", json_figure(mean_luminance(last_mean))},
                          {"nonfinite_pixels", nonfinite_pixels},
-                         {"nonfinite_samples", renderer->reference_nonfinite_samples()},
+                         {"nonfinite_samples", nonfinite_samples},
                          {"pass_ms", timings}});
+    if (cluster_ids_check)
+      per_frame.back()["cluster_ids"] =
+          cluster_ids_check->record_frame(frame, renderer->packed_visibility(), renderer->cluster_table());
 
     if (captures.count(frame)) {
-      const Image a = renderer->reference_half(0), b = renderer->reference_half(1);
+      // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
+      const Image a = realtime ? renderer->di().frame(0) : renderer->reference_half(0);
+      const Image b = realtime ? renderer->di().frame(renderer->di().settings().chains - 1)
+                               : renderer->reference_half(1);
       std::vector<Image> layers;
       const std::vector<std::string> names = {"albedo", "normal", "depth", "motion"};
       for (const std::string& n : names) layers.push_back(renderer->gbuffer_layer(n));
@@ -163,6 +199,12 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       write_exr(options.out_dir / file, exr);
       write_png_preview(options.out_dir / fmt::format("captures/frame_{:05}.png", frame), last_mean);
       capture_files.push_back(file);
+    }
+    if (realtime_check && realtime_check->wants(frame)) {
+      const gpu::DiPipeline& di = renderer->di();
+      RealtimeEstimate estimate{di.frame(0), di.frame(1), di.mean(0), di.mean(1), window_start,
+                                di.accumulated_frames(0)};
+      realtime_check->compare_frame(frame, scene, estimate);
     }
     if (reference_check && reference_check->wants(frame)) {
       GpuEstimate estimate{last_mean, renderer->reference_half(0), renderer->reference_half(1), window_samples};
@@ -174,10 +216,12 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
   RunResult result;
   if (reference_check) result.checks.push_back(reference_check->result());
+  if (realtime_check) result.checks.push_back(realtime_check->result());
+  if (cluster_ids_check) result.checks.push_back(cluster_ids_check->result());
   if (finite_check) {
     CheckResult c;
     c.name = "finite";
-    c.figures = {{"nonfinite_samples", renderer->reference_nonfinite_samples()},
+    c.figures = {{"nonfinite_samples", realtime ? 0 : renderer->reference_nonfinite_samples()},
                  {"nonfinite_pixels", nonfinite_pixels_total}};
     c.limits = {{"nonfinite", 0}};
     c.first_failing_frame = first_nonfinite_frame;
@@ -203,9 +247,10 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                    {"seed", seed},
                    {"profile", scenario.profile},
                    {"overrides", scenario.overrides},
-                   {"mode", "reference"},
+                   {"mode", realtime ? "realtime" : "reference"},
+                   {"profile_values", profile.to_json()},
                    {"samples_per_frame", scenario.samples_per_frame},
-                   {"backend", "rayquery"}};
+                   {"backend", gpu::backend_name(device.backend())}};
   s["scene"] = {{"name", initial.name},
                 {"instances", initial.instances.size()},
                 {"triangles", initial.triangle_count()},

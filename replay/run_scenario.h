@@ -19,10 +19,12 @@ struct RunOptions {
   std::optional<std::uint32_t> frames;  // --frames
   std::optional<std::uint32_t> seed;    // --seed
   std::optional<int> device;            // --device N
-  std::string backend = "auto";         // --backend (rayquery only for now)
+  std::string backend = "auto";         // --backend auto|rayquery|bvh (gpu::BackendRequest)
   std::vector<std::uint32_t> capture;   // --capture, added to the scenario's own
   std::filesystem::path out_dir = "out";
   bool quiet = false;
+  std::optional<std::string> profile;   // --profile (name or file), else the scenario's
+  std::vector<std::string> sets;        // --set key=value, applied after the scenario's overrides
 };
 
 struct RunResult {

@@ -261,6 +261,7 @@ TEST(ScenarioSchema, KeysAndEnumsMatchTheParser) {
   EXPECT_EQ(as_set(keys_of(D["camera_pose"]["properties"])), as_set(K.camera_pose_keys));
   EXPECT_EQ(as_set(keys_of(D["mesh_generator"]["properties"])), as_set(K.mesh_generator_keys));
   EXPECT_EQ(as_set(keys_of(D["cornell_box_params"]["properties"])), as_set(K.cornell_box_params));
+  EXPECT_EQ(as_set(keys_of(D["cliff_params"]["properties"])), as_set(K.cliff_params));
   EXPECT_EQ(as_set(S["properties"]["mode"]["enum"]), as_set(K.modes));
   EXPECT_EQ(as_set(S["properties"]["profile"]["enum"]), as_set(K.profiles));
   EXPECT_EQ(as_set(D["event"]["properties"]["type"]["enum"]), as_set(K.event_types));

@@ -94,6 +94,7 @@ struct EmbreeBridge {
 
 #include "core/shared/scene_access.h"
 #include "core/shared/path_integrator.h"
+#include "core/shared/direct_integrator.h"
 };
 
 }  // namespace
@@ -219,7 +220,8 @@ ReferenceResult render_reference(const FlatGeometry& geometry, const FlatInstanc
         for (std::uint32_t s = 0; s < o.spp; ++s) {
           const std::uint32_t sample = o.first_sample + s;
           std::uint32_t rng = shader::rng_seed(o.seed, shader::RNG_DOMAIN_EMBREE, pixel, sample);
-          const glm::vec3 L = bridge.path_trace(origin, dir, rng, o.max_bounces);
+          const glm::vec3 L = o.direct_only ? bridge.direct_trace(origin, dir, rng)
+                                            : bridge.path_trace(origin, dir, rng, o.max_bounces);
           if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
             ++bad;
             continue;

@@ -19,6 +19,7 @@ struct ReferenceOptions {
   std::uint32_t max_bounces = 32;
   unsigned threads = 0;            // 0 = all cores; never changes the image
   std::uint32_t first_sample = 0;  // sample indices first_sample .. first_sample + spp − 1
+  bool direct_only = false;        // "DI" only (core/shared/direct_integrator.h), for the realtime DI check
 };
 
 struct ReferenceResult {

@@ -139,6 +139,7 @@ std::uint64_t reference_cache_key(const Scene& scene, const ReferenceOptions& o)
   h.array(visible);
   h.pod(camera);
   for (std::uint32_t v : {o.width, o.height, o.spp, o.seed, o.max_bounces, o.first_sample}) h.pod(v);
+  if (o.direct_only) h.string("direct_only");  // absent for path tracing: existing keys stay valid
   return h.digest();
 }
 
@@ -173,6 +174,7 @@ ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, 
   j["seed"] = o.seed;
   j["max_bounces"] = o.max_bounces;
   j["first_sample"] = o.first_sample;
+  j["direct_only"] = o.direct_only;
   j["nonfinite_samples"] = r.nonfinite_samples;
   j["seconds"] = r.seconds;
   j["rays"] = r.rays;

@@ -2,6 +2,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/shader_compiler.h"
+#include "core/clusters/cluster_ids.h"
 #include "gpu/shaders/bindings.h"
 
 namespace gi::gpu {
@@ -15,6 +16,7 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
   bindings.push_back({BINDING_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  bindings.push_back({BINDING_CLUSTER_TABLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   return ComputePass(device, "gbuffer_resolve", compiler.compile_file(GBufferResolve::kShader).spirv,
                      std::move(bindings));
 }
@@ -24,7 +26,8 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
 GBufferResolve::GBufferResolve(Device& device, ShaderCompiler& compiler) : pass_(make_pass(device, compiler)) {}
 
 void GBufferResolve::bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth,
-                          const Buffer& gbuffer) {
+                          const Buffer& gbuffer, const Buffer& cluster_table) {
+  pass_.bind_buffer(BINDING_CLUSTER_TABLE, cluster_table);
   pass_.bind_scene(scene);
   pass_.bind_buffer(BINDING_VISIBILITY, visibility);
   pass_.bind_buffer(BINDING_DEPTH, depth);

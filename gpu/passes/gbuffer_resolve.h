@@ -20,8 +20,9 @@ class GBufferResolve {
   static constexpr const char* kShader = "gpu/shaders/gbuffer_resolve.comp";
 
   GBufferResolve(Device& device, ShaderCompiler& compiler);
-  // visibility/depth as PrimaryVisibility writes them; gbuffer: GBufferTexel per pixel.
-  void bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth, const Buffer& gbuffer);
+  // visibility/depth/cluster_table as PrimaryVisibility uses them; gbuffer: GBufferTexel per pixel.
+  void bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth, const Buffer& gbuffer,
+            const Buffer& cluster_table);
   void record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height) const;
 
  private:

@@ -18,6 +18,10 @@ GI_CONST uint BINDING_MATERIALS = 4u;         // GpuMaterial[]
 GI_CONST uint BINDING_LIGHTS = 5u;            // GpuLight[]
 GI_CONST uint BINDING_FRAME = 6u;             // uniform FrameConstants
 GI_CONST uint SCENE_BINDING_COUNT = 7u;
+// The `bvh` backend (TRACE_BACKEND_BVH) replaces the TLAS with two buffers;
+// ComputePass swaps them in for BINDING_TLAS on a bvh Device.
+GI_CONST uint BINDING_BVH_NODES = 0u;         // BvhNode[] (core/shared/bvh_types.h), in place of the TLAS
+GI_CONST uint BINDING_BVH_TRIANGLES = 7u;     // BvhTriangle[]
 
 // Primary visibility / G-buffer.
 GI_CONST uint BINDING_VISIBILITY = 8u;        // uvec2[] per pixel: instance, primitive (VISIBILITY_MISS)

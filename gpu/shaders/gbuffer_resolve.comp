@@ -1,6 +1,11 @@
 // G-buffer resolve: rebuilds each pixel's surface from the visibility buffer
 // (surface_at() in core/shared/scene_access.h, barycentrics recomputed from
 // the camera ray) and writes a GBufferTexel (gpu/shaders/gbuffer.h).
+// The surface comes from the packed cluster ID alone (visibility x, decoded
+// through the cluster table as decode_packed_visibility() does on the CPU);
+// the instance channel (y) is never read here, so an aliased ID resolves to
+// the wrong surface, as it did in Bevy. An ID naming no drawn triangle
+// resolves to an empty texel.
 //
 // Motion vectors project the point with previous_camera only: instance
 // motion (last frame's transforms) is ignored for now, so moving objects get
@@ -10,12 +15,35 @@
 #define SCENE_BINDINGS_NO_INTEGRATOR
 #include "gpu/shaders/scene_bindings.glsl"
 #include "gpu/shaders/gbuffer.h"
+#include "core/clusters/cluster_ids.h"
 
 layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
 
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uvec2 visibility[]; };
 layout(std430, set = 0, binding = BINDING_DEPTH) readonly buffer Depth { float depth[]; };
 layout(std430, set = 0, binding = BINDING_GBUFFER) writeonly buffer GBuffer { GBufferTexel gbuffer[]; };
+layout(std430, set = 0, binding = BINDING_CLUSTER_TABLE) readonly buffer ClusterTable { uint cluster_table[]; };
+
+// (instance, primitive) named by a packed ID; false if it names no drawn triangle.
+bool decode_visibility(uint packed, out uint instance, out uint primitive) {
+  uint id = cluster_unpack_id(packed, cluster_table[CT_CLUSTER_BITS], cluster_table[CT_TRIANGLE_BITS]);
+  uint tri = cluster_unpack_triangle(packed, cluster_table[CT_TRIANGLE_BITS]);
+  uint records = cluster_table[CT_INSTANCES];
+  uint lo = 0u, hi = cluster_table[CT_INSTANCE_COUNT];
+  if (hi == 0u) return false;
+  while (hi - lo > 1u) {  // the last instance whose first ID is <= id
+    uint mid = (lo + hi) / 2u;
+    if (cluster_table[records + 4u * mid] <= id) lo = mid; else hi = mid;
+  }
+  uint first = cluster_table[records + 4u * lo];
+  uint local = id - first;
+  if (id < first || local >= cluster_table[records + 4u * lo + 1u] || local >= cluster_table[records + 4u * lo + 3u])
+    return false;
+  uint cluster = cluster_table[records + 4u * lo + 2u] + local;
+  primitive = cluster_table[cluster_table[CT_CLUSTERS] + cluster * cluster_table[CT_MAX_TRIANGLES] + tri];
+  instance = lo;
+  return primitive != CLUSTER_NO_PRIMITIVE;
+}
 
 // Barycentrics (u, v) of the ray's intersection with triangle (p0, p1, p2)
 // (Möller–Trumbore without the range tests: the hit is known).
@@ -45,16 +73,16 @@ void main() {
   g.emissive_roughness = vec4(0.0);
   g.motion_reflectance = vec4(0.0);
 
-  uvec2 vis = visibility[index];
-  if (vis.x != VISIBILITY_MISS) {
+  uint instance, primitive;
+  if (visibility[index].x != VISIBILITY_MISS && decode_visibility(visibility[index].x, instance, primitive)) {
     vec3 origin = vec3(frame.camera.position);
     vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
-    GpuInstance inst = scene_instance(vis.x);
-    uint base = inst.first_index + 3u * vis.y;
+    GpuInstance inst = scene_instance(instance);
+    uint base = inst.first_index + 3u * primitive;
     vec3 p0 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base)).position);
     vec3 p1 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 1u)).position);
     vec3 p2 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 2u)).position);
-    SurfacePoint s = surface_at(vis.x, vis.y, ray_barycentrics(origin, dir, p0, p1, p2));
+    SurfacePoint s = surface_at(instance, primitive, ray_barycentrics(origin, dir, p0, p1, p2));
     GpuMaterial m = scene_material(s.material);
 
     g.position_depth = vec4(s.position, depth[index]);

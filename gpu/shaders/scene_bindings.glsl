@@ -1,12 +1,18 @@
-// The GLSL bridge to the shared scene code: binds the scene (TLAS, geometry,
+// The GLSL bridge to the shared scene code: binds the scene (geometry,
 // instances, materials, lights, frame constants), defines the accessors that
-// core/shared/scene_access.h and path_integrator.h require, traces with ray
-// queries, then includes both. A pass includes this file once, after #version
-// and its extensions:
+// core/shared/scene_access.h and path_integrator.h require, defines the
+// tracing interface trace_closest/trace_unoccluded, then includes both. A pass
+// includes this file once, after #version and its extensions:
 //   #include "gpu/shaders/scene_bindings.glsl"
 // Define SCENE_BINDINGS_NO_INTEGRATOR before including it to leave out
 // path_integrator.h (passes that trace no paths compile faster).
+//
+// The tracing backend is chosen at compile time (DESIGN §4): the ShaderCompiler
+// adds TRACE_BACKEND_BVH for the compute BVH (trace_bvh.glsl), else ray
+// queries are used (trace_rayquery.glsl). Passes never know which one runs.
+#ifndef TRACE_BACKEND_BVH
 #extension GL_EXT_ray_query : require
+#endif
 
 #include "core/shared/brdf.h"
 #include "core/shared/rng.h"
@@ -14,7 +20,6 @@
 #include "core/shared/scene_types.h"
 #include "gpu/shaders/bindings.h"
 
-layout(set = 0, binding = BINDING_TLAS) uniform accelerationStructureEXT scene_tlas;
 layout(std430, set = 0, binding = BINDING_VERTICES) readonly buffer SceneVertices { GpuVertex scene_vertices[]; };
 layout(std430, set = 0, binding = BINDING_INDICES) readonly buffer SceneIndices { uint scene_indices[]; };
 layout(std430, set = 0, binding = BINDING_INSTANCES) readonly buffer SceneInstances { GpuInstance scene_instances[]; };
@@ -30,28 +35,11 @@ GpuLight scene_light(uint i) { return scene_lights[i]; }
 uint scene_light_count() { return frame.counts.x; }
 uint scene_directional_light_count() { return frame.counts.y; }
 
-// tmin is 0: the shared code offsets ray origins itself (offset_ray_origin).
-bool trace_closest(vec3 origin, vec3 dir, float tmax, out Hit hit) {
-  rayQueryEXT q;
-  rayQueryInitializeEXT(q, scene_tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, 0.0, dir, tmax);
-  while (rayQueryProceedEXT(q)) {
-  }
-  if (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT) return false;
-  hit.t = rayQueryGetIntersectionTEXT(q, true);
-  hit.instance = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, true));
-  hit.primitive = uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
-  hit.barycentrics = rayQueryGetIntersectionBarycentricsEXT(q, true);
-  return true;
-}
-
-bool trace_unoccluded(vec3 origin, vec3 dir, float tmax) {
-  rayQueryEXT q;
-  rayQueryInitializeEXT(q, scene_tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, origin, 0.0,
-                        dir, tmax);
-  while (rayQueryProceedEXT(q)) {
-  }
-  return rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT;
-}
+#ifdef TRACE_BACKEND_BVH
+#include "gpu/shaders/trace_bvh.glsl"
+#else
+#include "gpu/shaders/trace_rayquery.glsl"
+#endif
 
 #include "core/shared/scene_access.h"
 #ifndef SCENE_BINDINGS_NO_INTEGRATOR

@@ -1,0 +1,69 @@
+// Profiles (DESIGN §3 "Profiles"): every constant and behavioural switch of
+// the pipeline, each with its source, in scenarios/profiles/<name>.json. A
+// scenario names one and overrides single values ("overrides"); the command
+// line overrides again (`--profile`, `--set key=value`). Every resolved value,
+// with where it came from, goes into summary.json.
+//
+// File format: {"name", "description", "values": {"<key>": {"value": v,
+// "source": "…", "allowed": [strings, optional]}}}. Keys are dotted
+// ("restir_di.mis"); a value's type (integer, number, boolean, string) is
+// fixed by the profile, and overrides must match it (an integer is accepted
+// where a number is expected).
+#pragma once
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace gi {
+
+struct Scenario;
+
+struct ProfileValue {
+  nlohmann::json value;
+  std::string source;                 // where the value comes from (Bevy version, post, our choice)
+  std::vector<std::string> allowed;   // strings: the permitted values (empty: any)
+  std::string set_by = "profile";     // "profile", "scenario overrides", "--set"
+};
+
+struct Profile {
+  std::string name;
+  std::filesystem::path file;
+  std::map<std::string, ProfileValue> values;
+
+  // Typed reads; std::logic_error for a key the profile lacks or a wrong type
+  // (a programming error: profiles are validated on load).
+  long long integer(const std::string& key) const;
+  double number(const std::string& key) const;
+  bool flag(const std::string& key) const;
+  const std::string& text(const std::string& key) const;
+
+  // {"name", "file", "values": {key: {"value", "source", "set_by"}}}
+  nlohmann::json to_json() const;
+};
+
+// The profiles folder: $GIHARNESS_PROFILE_DIR, else <source>/scenarios/profiles.
+std::filesystem::path profile_dir();
+
+// Loads <dir>/<name>.json, or `name` itself when it names an existing .json
+// file. InputError (file + JSON path) for a missing file, bad JSON, or a
+// malformed entry.
+Profile load_profile(const std::string& name_or_file, const std::filesystem::path& dir = profile_dir());
+
+// Applies {"key": value} overrides; InputError naming `file` and
+// `json_path`/<key> for an unknown key, a wrong type or a value not allowed.
+void apply_overrides(Profile& profile, const nlohmann::json& overrides, const std::string& file,
+                     const std::string& json_path, const std::string& set_by);
+
+// Applies one "key=value" (value parsed as JSON, else taken as a string).
+// InputError naming "--set" for a malformed item, unknown key or wrong type.
+void apply_set(Profile& profile, const std::string& assignment);
+
+// The scenario's profile (or `profile_override`), its overrides, then `sets`.
+Profile resolve_profile(const Scenario& scenario, const std::optional<std::string>& profile_override = std::nullopt,
+                        const std::vector<std::string>& sets = {});
+
+}  // namespace gi

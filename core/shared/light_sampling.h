@@ -1,0 +1,72 @@
+// Generating and resolving light samples against the scene (Solari's
+// generate_random_light_sample / resolve_light_sample): bridge-included like
+// scene_access.h (include that first; see its header for the accessors).
+// The light tiles (gpu/shaders/light_tiles.comp) and the DI reuse passes run it.
+//
+// Needs from the includer: core/shared/light_tiles.h, reservoir.h, rng.h, sampling.h.
+
+// One light uniformly, one of its triangles uniformly, and a seed for the point.
+GI_FN LightSample generate_light_sample(INOUT(uint) rng) {
+  LightSample s;
+  uint count = scene_light_count();
+  s.valid = 0u;
+  s.light_id = 0u;
+  s.triangle_id = 0u;
+  s.seed = 0u;
+  if (count == 0u) return s;
+  s.light_id = min(uint(rng_next_float(rng) * float(count)), max(count, 1u) - 1u);
+  GpuLight light = scene_light(s.light_id);
+  if (light.kind != LIGHT_KIND_DIRECTIONAL)
+    s.triangle_id = min(uint(rng_next_float(rng) * float(light.triangle_count)), light.triangle_count - 1u);
+  s.seed = rng_next_uint(rng);
+  s.valid = 1u;
+  return s;
+}
+
+// Full precision; the radiance is the scene's (encoding is the caller's choice).
+GI_FN ResolvedLightSample resolve_light_sample(LightSample ls) {
+  ResolvedLightSample r;
+  uint rng = ls.seed;
+  vec2 u = rng_next_vec2(rng);
+  GpuLight light = scene_light(ls.light_id);
+  float count = float(scene_light_count());
+  if (light.kind == LIGHT_KIND_DIRECTIONAL) {
+    vec3 dir = to_world(sample_cone(u, light.direction.w), vec3(light.direction));
+    r.world_position = vec4(dir, 0.0f);
+    r.world_normal = -dir;
+    r.radiance = vec3(light.radiance);
+    r.inverse_pdf = count * cone_solid_angle(light.direction.w);
+    return r;
+  }
+  SurfacePoint q = surface_at(light.instance, ls.triangle_id, sample_triangle(u));
+  r.world_position = vec4(q.position, 1.0f);
+  r.world_normal = q.geometric_normal;
+  r.radiance = q.emissive;
+  r.inverse_pdf = count * float(light.triangle_count) * q.area;
+  return r;
+}
+
+// The light radiance every DI evaluation sees: the scene's radiance taken
+// through the light tiles' encoding (packing.h). The harness models light
+// samples as carrying their radiance in the tile encoding everywhere DI uses
+// them (initial candidates from the tiles, re-resolved reused samples, final
+// shading), so the encoding's range and precision show in DI's output
+// (README, "Design notes").
+GI_FN ResolvedLightSample resolve_light_sample_encoded(LightSample ls, float exposure, bool log2_radiance) {
+  ResolvedLightSample r = resolve_light_sample(ls);
+  r.radiance = unpack_radiance(pack_radiance(r.radiance, exposure, log2_radiance), exposure, log2_radiance);
+  return r;
+}
+
+// Shadow ray from a surface point (geometric normal ng facing the light's side)
+// to a resolved sample: aimed from the offset origin at the light point, as
+// path_integrator.h's next-event estimation does.
+GI_FN bool light_sample_visible(vec3 position, vec3 ng, ResolvedLightSample s) {
+  LightContribution c = light_contribution(s, position, ng);
+  if (dot(c.wi, ng) <= 0.0f) return false;
+  vec3 spawn = offset_ray_origin(position, ng);
+  if (s.world_position.w == 0.0f) return trace_unoccluded(spawn, c.wi, RAY_TMAX);
+  vec3 to_light = vec3(s.world_position) - spawn;
+  float dist = length(to_light);
+  return trace_unoccluded(spawn, to_light / dist, dist * (1.0f - 1e-4f));
+}

@@ -1,0 +1,45 @@
+#include "gpu/bvh_buffers.h"
+
+#include <spdlog/spdlog.h>
+
+namespace gi::gpu {
+
+std::vector<ShaderDefine> trace_backend_defines(TraceBackend backend) {
+  if (backend == TraceBackend::bvh) return {{"TRACE_BACKEND_BVH", ""}};
+  return {};
+}
+
+BvhBuffers::BvhBuffers(Device& device, const FlatGeometry& geometry) : device_(device), bvh_(geometry) {
+  upload_all();
+  spdlog::debug("bvh: {} triangles, {} nodes, deepest BLAS {} levels", bvh_.triangles().size(), bvh_.nodes().size(),
+                bvh_.max_blas_depth());
+}
+
+void BvhBuffers::upload_all() {
+  const VkDeviceSize node_bytes = bvh_.nodes().size() * sizeof(shader::BvhNode);
+  const VkDeviceSize tri_bytes = bvh_.triangles().size() * sizeof(shader::BvhTriangle);
+  if (!nodes_ || nodes_.size() < node_bytes) {
+    nodes_ = Buffer(device_, node_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "bvh nodes");
+    buffers_changed_ = true;
+  }
+  if (!triangles_) {
+    triangles_ = Buffer(device_, tri_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "bvh triangles");
+    if (tri_bytes) triangles_.upload(bvh_.triangles());
+    buffers_changed_ = true;
+  }
+  nodes_.upload(bvh_.nodes());
+  uploaded_generation_ = bvh_.layout_generation();
+}
+
+bool BvhBuffers::update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible) {
+  if (!bvh_.update(instances, visible)) return false;
+  if (bvh_.layout_generation() != uploaded_generation_) {
+    upload_all();  // the TLAS region grew: every BLAS node moved
+  } else {
+    const std::span<const shader::BvhNode> region(bvh_.nodes().data(), bvh_.tlas_region_nodes());
+    nodes_.upload(region);
+  }
+  return true;
+}
+
+}  // namespace gi::gpu

@@ -1,0 +1,47 @@
+// The `bvh` tracing backend on the GPU (DESIGN §4): the CPU-built two-level
+// BVH (core/bvh/scene_bvh.h) in two storage buffers that
+// gpu/shaders/trace_bvh.glsl traverses. The BLASes are uploaded once; a TLAS
+// rebuild rewrites only the TLAS region of the node buffer.
+#pragma once
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/bvh/scene_bvh.h"
+#include "core/scene_flatten.h"
+#include "gpu/buffer.h"
+#include "gpu/device.h"
+#include "gpu/shader_compiler.h"
+
+namespace gi::gpu {
+
+// The defines that select a backend's trace_closest/trace_unoccluded in
+// gpu/shaders/scene_bindings.glsl: TRACE_BACKEND_BVH for bvh, none for rayquery.
+std::vector<ShaderDefine> trace_backend_defines(TraceBackend backend);
+
+class BvhBuffers {
+ public:
+  BvhBuffers(Device& device, const FlatGeometry& geometry);
+
+  // As AccelerationStructures::update: rebuilds the TLAS only if the visible
+  // set or a visible transform changed. Returns true if it rebuilt.
+  bool update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible);
+
+  const Buffer& nodes() const { return nodes_; }
+  const Buffer& triangles() const { return triangles_; }
+  // True once after the buffers were replaced: descriptors must be rewritten.
+  bool take_buffers_changed() { return std::exchange(buffers_changed_, false); }
+  std::uint32_t tlas_builds() const { return bvh_.tlas_builds(); }
+  const bvh::SceneBvh& scene_bvh() const { return bvh_; }
+
+ private:
+  void upload_all();
+
+  Device& device_;
+  bvh::SceneBvh bvh_;
+  Buffer nodes_, triangles_;
+  std::uint32_t uploaded_generation_ = 0;
+  bool buffers_changed_ = true;
+};
+
+}  // namespace gi::gpu

@@ -1,0 +1,26 @@
+#include "gpu/passes/restir_di_settings.h"
+
+#include <fmt/format.h>
+
+namespace gi::gpu {
+
+std::vector<ShaderDefine> DiSettings::defines() const {
+  // Floats printed with enough digits to round-trip, as GLSL float literals.
+  auto f = [](float v) { return fmt::format("{:.9g}", v).find_first_of(".e") == std::string::npos
+                                    ? fmt::format("{:.9g}.0", v)
+                                    : fmt::format("{:.9g}", v); };
+  return {{"LIGHT_TILE_COUNT", std::to_string(tile_count) + "u"},
+          {"LIGHT_TILE_SAMPLES", std::to_string(samples_per_tile) + "u"},
+          {"LIGHT_TILE_EXPOSURE", f(exposure)},
+          {"LIGHT_TILE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
+          {"DI_INITIAL_SAMPLES", std::to_string(initial_samples) + "u"},
+          {"DI_CONFIDENCE_CAP", f(confidence_cap)},
+          {"DI_SPATIAL_RADIUS", f(spatial_radius)},
+          {"DI_SPATIAL_TRIES", std::to_string(spatial_tries) + "u"},
+          {"DI_PLANE_TOLERANCE", f(plane_tolerance)},
+          {"DI_NORMAL_MIN_DOT", f(normal_min_dot)},
+          {"DI_BALANCE_MIS", balance_mis ? "1" : "0"},
+          {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"}};
+}
+
+}  // namespace gi::gpu

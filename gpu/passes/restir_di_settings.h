@@ -1,0 +1,46 @@
+// The realtime DI passes' compile-time settings (from the profile, DESIGN §3
+// steps 4 and 6) and the buffers they share. Each setting becomes a #define,
+// so a scenario compiles only the variant it uses.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gpu/compute_pass.h"
+#include "gpu/shader_compiler.h"
+
+namespace gi::gpu {
+
+struct DiSettings {
+  std::uint32_t tile_count = 128;
+  std::uint32_t samples_per_tile = 1024;  // after sizing to the scene
+  float exposure = 1.0f;
+  bool log2_radiance = true;              // false: plain rgb9e5 (0.17)
+  std::uint32_t initial_samples = 32;
+  float confidence_cap = 20.0f;
+  float spatial_radius = 30.0f;
+  std::uint32_t spatial_tries = 5;
+  float plane_tolerance = 0.003f;
+  float normal_min_dot = 0.906f;
+  bool balance_mis = true;                // false: constant MIS (0.17)
+  bool visibility_final = true;           // false: spatial ray fed forward (0.17)
+  std::uint32_t chains = 1;               // independent DI chains (2: an honest noise estimate)
+
+  std::vector<ShaderDefine> defines() const;
+};
+
+class Buffer;
+
+struct DiBuffers {
+  const Buffer* gbuffer = nullptr;
+  const Buffer* tile_samples = nullptr;
+  const Buffer* tile_packed = nullptr;
+  const Buffer* stored = nullptr;
+  const Buffer* mid = nullptr;
+  const Buffer* surfaces = nullptr;
+  const Buffer* translation = nullptr;
+  const Buffer* output = nullptr;
+  const Buffer* accumulation = nullptr;
+};
+
+}  // namespace gi::gpu

@@ -1,0 +1,67 @@
+// What both ReSTIR DI passes share: bindings, the pixel's surface from the
+// G-buffer, and the target function of a reservoir's sample at a surface.
+// Included after scene_bindings.glsl.
+//
+// Defines: LIGHT_TILE_* (light_tiles.comp), DI_INITIAL_SAMPLES,
+// DI_CONFIDENCE_CAP, DI_SPATIAL_RADIUS, DI_SPATIAL_TRIES, DI_PLANE_TOLERANCE,
+// DI_NORMAL_MIN_DOT, DI_BALANCE_MIS (1: balance heuristic, 0: constant),
+// DI_VISIBILITY_FINAL (1: 0.18 order, 0: 0.17 spatial ray fed forward).
+#include "core/shared/light_tiles.h"
+#include "core/shared/reservoir.h"
+#include "core/shared/restir_di.h"
+#include "gpu/shaders/di_bindings.h"
+#include "gpu/shaders/gbuffer.h"
+#include "core/shared/light_sampling.h"
+
+layout(push_constant) uniform Push { DiPushConstants push; };
+
+layout(std430, set = 0, binding = BINDING_GBUFFER) readonly buffer GBuffer { GBufferTexel gbuffer[]; };
+layout(std430, set = 0, binding = BINDING_DI_RESERVOIRS_STORED) buffer Stored { DiReservoir stored_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_DI_RESERVOIRS_MID) buffer Mid { DiReservoir mid_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_DI_SURFACES) buffer Surfaces { DiSurface surfaces[]; };
+
+struct DiPixel {
+  bool hit;
+  vec3 position;
+  vec3 ng;        // geometric normal on the camera's side
+  vec3 ns;        // shading normal on that side
+  vec3 view;      // unit, towards the camera
+  float view_z;
+  vec3 diffuse;
+  vec3 emissive;  // front face only
+  uint material_index_unused;
+  GBufferTexel g;
+};
+
+DiPixel di_pixel(uvec2 pixel) {
+  uvec2 resolution = frame.resolution_frame.xy;
+  DiPixel d;
+  d.g = gbuffer[pixel.y * resolution.x + pixel.x];
+  d.hit = d.g.geometric_normal.w > 0.0;
+  vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
+  d.position = d.g.position_depth.xyz;
+  bool front = dot(dir, d.g.geometric_normal.xyz) < 0.0;
+  d.ng = front ? d.g.geometric_normal.xyz : -d.g.geometric_normal.xyz;
+  d.ns = dot(d.g.shading_normal.xyz, d.ng) < 0.0 ? -d.g.shading_normal.xyz : d.g.shading_normal.xyz;
+  d.view = -dir;
+  d.view_z = dot(d.position - frame.camera.position.xyz, normalize(frame.camera.forward.xyz));
+  d.diffuse = d.g.base_color_metallic.rgb * (1.0 - d.g.base_color_metallic.a);
+  d.emissive = front ? d.g.emissive_roughness.rgb : vec3(0.0);
+  return d;
+}
+
+ResolvedLightSample di_resolve(LightSample s) {
+  return resolve_light_sample_encoded(s, LIGHT_TILE_EXPOSURE, LIGHT_TILE_LOG2_RADIANCE != 0);
+}
+
+// p̂ at a surface (position, geometric and shading normal, diffuse colour).
+float di_target_at(ResolvedLightSample r, vec3 position, vec3 ng, vec3 ns, vec3 diffuse) {
+  LightContribution c = light_contribution(r, position, ns);
+  if (dot(c.wi, ng) <= 0.0) return 0.0;
+  return di_target(c, diffuse);
+}
+
+bool di_dissimilar(DiPixel d, vec3 other_position, vec3 other_normal) {
+  return pixel_dissimilar(d.view_z, d.position, other_position, d.ns, other_normal, DI_PLANE_TOLERANCE,
+                          DI_NORMAL_MIN_DOT);
+}

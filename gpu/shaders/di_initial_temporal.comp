@@ -1,0 +1,95 @@
+// ReSTIR DI, dispatch 1 of 2 (DESIGN §3 step 6): initial RIS over
+// DI_INITIAL_SAMPLES candidates of one random light tile (target: luminance of
+// the unshadowed contribution × diffuse BRDF, constant MIS 1/N), a shadow ray
+// on the winner; then temporal reuse of last frame's stored reservoir through
+// the motion vector, rejected when the surfaces differ (pixel_dissimilar) or
+// its light no longer exists, confidence capped at DI_CONFIDENCE_CAP,
+// visibility reused (no ray). Writes the merged reservoir for the spatial pass.
+// z indexes the independent chain.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "gpu/shaders/scene_bindings.glsl"
+#include "gpu/shaders/di_common.glsl"
+
+layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
+
+layout(std430, set = 0, binding = BINDING_LIGHT_TILE_SAMPLES) readonly buffer TileSamples { LightSample tile_samples[]; };
+layout(std430, set = 0, binding = BINDING_LIGHT_TILE_PACKED) readonly buffer TilePacked { PackedLightSample tile_packed[]; };
+layout(std430, set = 0, binding = BINDING_DI_LIGHT_TRANSLATION) readonly buffer Translation { uint light_translation[]; };
+
+void main() {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  uint chain = gl_GlobalInvocationID.z;
+  if (any(greaterThanEqual(pixel, resolution))) return;
+  uint index = pixel.y * resolution.x + pixel.x;
+  uint slot = chain * resolution.x * resolution.y + index;
+  DiPixel d = di_pixel(pixel);
+  if (!d.hit || scene_light_count() == 0u) {
+    mid_reservoirs[slot] = empty_di_reservoir();
+    return;
+  }
+  uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_DI_INITIAL + chain, index, frame.resolution_frame.z);
+
+  // Initial candidates.
+  uint per_chain = uint(LIGHT_TILE_COUNT) * uint(LIGHT_TILE_SAMPLES);
+  uint tile_start = chain * per_chain +
+                    min(uint(rng_next_float(rng) * float(LIGHT_TILE_COUNT)), uint(LIGHT_TILE_COUNT) - 1u) *
+                        uint(LIGHT_TILE_SAMPLES);
+  RisStream ris = ris_begin();
+  uint selected = 0xFFFFFFFFu;
+  for (uint i = 0u; i < uint(DI_INITIAL_SAMPLES); ++i) {
+    uint k = tile_start + min(uint(rng_next_float(rng) * float(LIGHT_TILE_SAMPLES)), uint(LIGHT_TILE_SAMPLES) - 1u);
+    ResolvedLightSample r = unpack_light_sample(tile_packed[k], LIGHT_TILE_EXPOSURE, LIGHT_TILE_LOG2_RADIANCE != 0);
+    LightContribution c = light_contribution(r, d.position, d.ns);
+    float target = dot(c.wi, d.ng) > 0.0 ? di_target(c, d.diffuse) : 0.0;
+    float weight = target * c.inverse_pdf / float(DI_INITIAL_SAMPLES);
+    if (ris_update(ris, weight, target, rng_next_float(rng))) selected = k;
+  }
+  DiReservoir canonical = empty_di_reservoir();
+  canonical.confidence_weight = 1.0;
+  if (selected != 0xFFFFFFFFu) {
+    canonical.light = tile_samples[selected];
+    canonical.unbiased_contribution_weight = ris_contribution_weight(ris);
+    ResolvedLightSample r = unpack_light_sample(tile_packed[selected], LIGHT_TILE_EXPOSURE, LIGHT_TILE_LOG2_RADIANCE != 0);
+    if (!light_sample_visible(d.position, d.ng, r)) canonical.unbiased_contribution_weight = 0.0;
+  }
+
+  // Temporal reuse.
+  vec4 motion = d.g.motion_reflectance;
+  if (push.history_valid != 0u && motion.z > 0.0) {
+    vec2 previous = vec2(pixel) + vec2(0.5) + motion.xy;
+    ivec2 q = ivec2(floor(previous));
+    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
+      uint q_index = uint(q.y) * resolution.x + uint(q.x);
+      DiSurface s = surfaces[q_index];
+      DiReservoir temporal = stored_reservoirs[chain * resolution.x * resolution.y + q_index];
+      bool usable = s.position_view_z.w > 0.0 && di_reservoir_valid(temporal) &&
+                    !di_dissimilar(d, s.position_view_z.xyz, s.normal.xyz);
+      if (usable) {
+        uint id = temporal.light.light_id < push.previous_light_count ? light_translation[temporal.light.light_id]
+                                                                      : LIGHT_ID_GONE;
+        usable = id != LIGHT_ID_GONE;
+        temporal.light.light_id = id;
+      }
+      if (usable) {
+        temporal.confidence_weight = min(temporal.confidence_weight, float(DI_CONFIDENCE_CAP));
+        vec3 prev_ng = s.normal.xyz;  // the previous surface's normal stands in for both of its normals
+        MergeTargets t;
+        t.pc_xc = 0.0;
+        t.po_xc = 0.0;
+        if (di_reservoir_valid(canonical)) {
+          ResolvedLightSample rc = di_resolve(canonical.light);
+          t.pc_xc = di_target_at(rc, d.position, d.ng, d.ns, d.diffuse);
+          t.po_xc = di_target_at(rc, s.position_view_z.xyz, prev_ng, prev_ng, s.diffuse.rgb);
+        }
+        ResolvedLightSample ro = di_resolve(temporal.light);
+        t.po_xo = di_target_at(ro, s.position_view_z.xyz, prev_ng, prev_ng, s.diffuse.rgb);
+        t.pc_xo = di_target_at(ro, d.position, d.ng, d.ns, d.diffuse);
+        MergeResult m = merge_di_reservoirs(canonical, temporal, t, DI_BALANCE_MIS != 0, rng_next_float(rng));
+        canonical = m.merged;
+      }
+    }
+  }
+  mid_reservoirs[slot] = canonical;
+}

@@ -1,0 +1,110 @@
+// ReSTIR DI, dispatch 2 of 2 (DESIGN §3 step 6): spatial reuse of one
+// neighbour's reservoir (a random pixel in a DI_SPATIAL_RADIUS disk, up to
+// DI_SPATIAL_TRIES tries for one that passes pixel_dissimilar), merged with
+// this pixel's; the result is stored for next frame; then shading.
+//
+// Visibility order (DI_VISIBILITY_FINAL):
+//   1 (0.18): store the merged reservoir without a new ray; trace the final
+//     sample's shadow ray for shading only (not fed forward).
+//   0 (0.17): trace a ray to the spatial sample before merging, fold it into
+//     that sample's W, store the result (fed forward); shade without a ray.
+//
+// Output: emitted radiance of the surface + the reservoir's sample shaded with
+// the full BRDF (core/shared/direct_integrator.h defines "DI" the same way);
+// escaped camera rays see the directional lights' discs.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "gpu/shaders/scene_bindings.glsl"
+#include "gpu/shaders/di_common.glsl"
+
+layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
+
+layout(std430, set = 0, binding = BINDING_DI_OUTPUT) writeonly buffer Output { vec4 di_output[]; };
+layout(std430, set = 0, binding = BINDING_DI_ACCUMULATION) buffer Accumulation { vec4 di_accumulation[]; };
+
+void main() {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  uint chain = gl_GlobalInvocationID.z;
+  if (any(greaterThanEqual(pixel, resolution))) return;
+  uint index = pixel.y * resolution.x + pixel.x;
+  uint pixels = resolution.x * resolution.y;
+  uint slot = chain * pixels + index;
+  DiPixel d = di_pixel(pixel);
+  vec3 color = vec3(0.0);
+
+  if (!d.hit) {
+    color = escaped_radiance(-d.view, 0.0);
+    stored_reservoirs[slot] = empty_di_reservoir();
+  } else {
+    uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_DI_SPATIAL + chain, index, frame.resolution_frame.z);
+    DiReservoir canonical = mid_reservoirs[slot];
+
+    // Choose the spatial neighbour.
+    int neighbour = -1;
+    DiPixel n;
+    for (uint attempt = 0u; attempt < uint(DI_SPATIAL_TRIES); ++attempt) {
+      vec2 u = rng_next_vec2(rng);
+      float r = float(DI_SPATIAL_RADIUS) * sqrt(u.x);
+      float phi = TWO_PI * u.y;
+      ivec2 q = ivec2(pixel) + ivec2(round(vec2(r * cos(phi), r * sin(phi))));
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(resolution))) || q == ivec2(pixel)) continue;
+      DiPixel candidate = di_pixel(uvec2(q));
+      if (!candidate.hit || di_dissimilar(d, candidate.position, candidate.ns)) continue;
+      neighbour = q.y * int(resolution.x) + q.x;
+      n = candidate;
+      break;
+    }
+
+    if (neighbour >= 0) {
+      DiReservoir other = mid_reservoirs[chain * pixels + uint(neighbour)];
+      MergeTargets t;
+      t.pc_xc = 0.0;
+      t.po_xc = 0.0;
+      t.po_xo = 0.0;
+      t.pc_xo = 0.0;
+      if (di_reservoir_valid(canonical)) {
+        ResolvedLightSample rc = di_resolve(canonical.light);
+        t.pc_xc = di_target_at(rc, d.position, d.ng, d.ns, d.diffuse);
+        t.po_xc = di_target_at(rc, n.position, n.ng, n.ns, n.diffuse);
+      }
+      if (di_reservoir_valid(other)) {
+        ResolvedLightSample ro = di_resolve(other.light);
+        t.po_xo = di_target_at(ro, n.position, n.ng, n.ns, n.diffuse);
+        t.pc_xo = di_target_at(ro, d.position, d.ng, d.ns, d.diffuse);
+#if DI_VISIBILITY_FINAL == 0
+        if (t.pc_xo > 0.0 && !light_sample_visible(d.position, d.ng, ro)) other.unbiased_contribution_weight = 0.0;
+#endif
+      }
+      MergeResult m = merge_di_reservoirs(canonical, other, t, DI_BALANCE_MIS != 0, rng_next_float(rng));
+      canonical = m.merged;
+    }
+    stored_reservoirs[slot] = canonical;
+
+    color = d.emissive;
+    if (di_reservoir_valid(canonical) && canonical.unbiased_contribution_weight > 0.0) {
+      ResolvedLightSample r = di_resolve(canonical.light);
+      LightContribution c = light_contribution(r, d.position, d.ns);
+      bool visible = dot(c.wi, d.ng) > 0.0;
+#if DI_VISIBILITY_FINAL != 0
+      visible = visible && light_sample_visible(d.position, d.ng, r);
+#endif
+      if (visible) {
+        BrdfParams brdf = brdf_params(d.g.base_color_metallic.rgb, d.g.base_color_metallic.a, d.g.emissive_roughness.a,
+                                      d.g.motion_reflectance.w);
+        // received_radiance carries cos(receiver)·cos(light)/d²; brdf_eval is the BRDF alone.
+        color += brdf_eval(brdf, d.ns, d.view, c.wi) * c.received_radiance * canonical.unbiased_contribution_weight;
+      }
+    }
+  }
+
+  if (chain == 0u) {
+    DiSurface s;
+    s.position_view_z = vec4(d.position, d.hit ? max(d.view_z, 1e-20) : 0.0);
+    s.normal = vec4(d.ns, 0.0);
+    s.diffuse = vec4(d.diffuse, 0.0);
+    surfaces[index] = s;
+  }
+  di_output[slot] = vec4(color, d.hit ? 1.0 : 0.0);
+  if (push.accumulate != 0u) di_accumulation[slot] += vec4(color, 1.0);
+}

@@ -1,0 +1,176 @@
+#include "replay/checks/cluster_ids_check.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "core/clusters/cluster_ids.h"
+#include "core/errors.h"
+#include "gpu/shaders/bindings.h"  // VISIBILITY_MISS
+#include "replay/events.h"
+
+namespace gi {
+namespace {
+
+std::uint32_t uint_param(const CheckSpec& spec, const Scenario& s, const char* key, std::uint32_t lo,
+                         std::uint32_t hi, std::uint32_t fallback) {
+  if (!spec.params.contains(key)) return fallback;
+  const nlohmann::json& v = spec.params[key];
+  if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi)
+    throw InputError(s.file.string(), spec.json_path + "/" + key,
+                     fmt::format("expected an integer in {}..{}, got {}", lo, hi, v.dump()));
+  return v.get<std::uint32_t>();
+}
+
+}  // namespace
+
+ClusterDagOptions ClusterIdsParams::dag_options() const {
+  ClusterDagOptions o;
+  o.max_triangles = std::min<std::uint32_t>(128, 1u << layout.triangle_bits);
+  return o;
+}
+
+ClusterIdsParams cluster_ids_params(const CheckSpec& spec, const Scenario& s) {
+  ClusterIdsParams p;
+  p.layout.triangle_bits = uint_param(spec, s, "triangle_bits", 2, 7, 7);
+  p.layout.cluster_bits = uint_param(spec, s, "cluster_bits", 1, 32 - p.layout.triangle_bits, 32 - p.layout.triangle_bits);
+  if (spec.params.contains("count_only")) {
+    if (!spec.params["count_only"].is_boolean())
+      throw InputError(s.file.string(), spec.json_path + "/count_only", "expected true or false");
+    p.count_only = spec.params["count_only"].get<bool>();
+  }
+  if (spec.params.contains("clusters_per_instance")) {
+    p.clusters_per_instance = uint_param(spec, s, "clusters_per_instance", 1, 0xffffffffu, 1);
+    if (!p.count_only)
+      throw InputError(s.file.string(), spec.json_path + "/clusters_per_instance",
+                       "expected only with \"count_only\": true (drawn instances own their DAG's clusters)");
+  }
+  return p;
+}
+
+ClusterIdsCheck::ClusterIdsCheck(ClusterIdsParams params, const Scenario& s, const Scene& initial,
+                                 std::uint32_t frames)
+    : params_(std::move(params)) {
+  const std::uint64_t limit = params_.layout.id_limit();
+  // Every mesh any frame uses: the scene after the last frame's events (spawns
+  // append instances in event_order, so spawn k is instance initial + k).
+  const Scene last = scene_at_frame(initial, s, frames - 1);
+  std::vector<bool> live;
+  std::uint64_t total = 0;
+  auto check = [&](std::uint32_t frame, const std::string& event, const std::string& instance, std::uint64_t before) {
+    peak_ids_ = std::max(peak_ids_, total);
+    if (total > limit && !overflow_)
+      overflow_ = SpawnOverflow{frame, event, instance, before, total, limit, spawns_};
+  };
+  for (std::uint32_t i = 0; i < initial.instances.size(); ++i) {
+    live.push_back(initial.instances[i].visible);
+    if (live.back()) total += ids_of(last, last.instances[i].mesh);
+  }
+  check(0, "initial scene", "", 0);
+  std::uint32_t next = static_cast<std::uint32_t>(initial.instances.size());
+  for (std::size_t idx : event_order(s)) {
+    const Event& e = s.events[idx];
+    if (e.first >= frames) break;
+    if (e.type == EventType::Spawn) {
+      ++spawns_;
+      const std::uint64_t before = total;
+      total += ids_of(last, last.instances.at(next).mesh);
+      live.push_back(true);
+      ++next;
+      check(e.first, e.json_path, e.instance, before);
+    } else if (e.type == EventType::Despawn) {
+      const auto it = std::find_if(last.instances.begin(), last.instances.begin() + next,
+                                   [&](const Instance& x) { return x.name == e.instance; });
+      const std::size_t i = static_cast<std::size_t>(it - last.instances.begin());
+      if (i < live.size() && live[i]) {
+        live[i] = false;
+        total -= ids_of(last, last.instances[i].mesh);
+      }
+    }
+  }
+}
+
+const ClusterDag& ClusterIdsCheck::dag(const Scene& scene, std::uint32_t mesh) {
+  auto it = dags_.find(mesh);
+  if (it == dags_.end()) it = dags_.emplace(mesh, build_cluster_dag(scene.meshes.at(mesh), params_.dag_options())).first;
+  return it->second;
+}
+
+std::uint64_t ClusterIdsCheck::ids_of(const Scene& scene, std::uint32_t mesh) {
+  if (params_.clusters_per_instance) return *params_.clusters_per_instance;
+  return dag(scene, mesh).clusters.size();
+}
+
+std::vector<MeshClusterIds> ClusterIdsCheck::mesh_cluster_ids(const Scene& scene, const FlatGeometry& geometry) {
+  std::vector<MeshClusterIds> out;
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) out.push_back(dag_cluster_ids(dag(scene, m), geometry, m));
+  return out;
+}
+
+nlohmann::json ClusterIdsCheck::record_frame(std::uint32_t frame, const std::vector<glm::uvec2>& packed,
+                                             const std::vector<std::uint32_t>& table) {
+  rendered_ = true;
+  ++frames_drawn_;
+  std::uint64_t mismatches = 0;
+  for (const glm::uvec2& p : packed) {
+    const bool miss_id = p.x == shader::VISIBILITY_MISS, miss_channel = p.y == shader::VISIBILITY_MISS;
+    if (miss_id || miss_channel) {
+      mismatches += miss_id != miss_channel;
+      continue;
+    }
+    const DecodedVisibility d = decode_packed_visibility(table, p.x);
+    mismatches += !d.valid || d.instance != p.y;
+  }
+  const std::uint64_t in_use = cluster_ids_in_use(table);
+  const bool over = in_use > params_.layout.id_limit();
+  frames_over_limit_ += over;
+  mismatches_ += mismatches;
+  if (!overflow_ || frame < overflow_->frame) mismatches_before_overflow_ += mismatches;
+  if (mismatches && !first_mismatch_frame_) first_mismatch_frame_ = frame;
+  return {{"ids_in_use", in_use}, {"over_limit", over}, {"decode_mismatches", mismatches}};
+}
+
+CheckResult ClusterIdsCheck::result() const {
+  CheckResult c;
+  c.name = "cluster_ids";
+  const std::uint64_t limit = params_.layout.id_limit();
+  c.limits = {{"cluster_bits", params_.layout.cluster_bits},
+              {"triangle_bits", params_.layout.triangle_bits},
+              {"id_limit", limit},
+              {"decode_mismatches", 0}};
+  c.figures = {{"peak_ids", peak_ids_}, {"spawns", spawns_}, {"count_only", !rendered_}};
+  if (params_.clusters_per_instance) c.figures["clusters_per_instance"] = *params_.clusters_per_instance;
+  for (const auto& [mesh, dag] : dags_) c.figures["mesh_clusters"][std::to_string(mesh)] = dag.clusters.size();
+  if (rendered_) {
+    c.figures["frames_drawn"] = frames_drawn_;
+    c.figures["frames_over_limit"] = frames_over_limit_;
+    c.figures["decode_mismatches"] = mismatches_;
+    c.figures["decode_mismatches_before_overflow"] = mismatches_before_overflow_;
+    if (first_mismatch_frame_) c.figures["first_mismatch_frame"] = *first_mismatch_frame_;
+  }
+  std::string msg;
+  if (overflow_) {
+    const SpawnOverflow& o = *overflow_;
+    c.figures["overflow"] = {{"frame", o.frame},         {"event", o.event},       {"instance", o.instance},
+                             {"spawn_number", o.spawn_number}, {"ids_before", o.ids_before}, {"ids_after", o.ids_after},
+                             {"limit", limit}};
+    c.first_failing_frame = o.frame;
+    msg = fmt::format("spawn {} (\"{}\", {}, frame {}) overflows the {}-bit cluster ID: {} > {} (before it: {})",
+                      o.spawn_number, o.instance, o.event, o.frame, params_.layout.cluster_bits, o.ids_after, limit,
+                      o.ids_before);
+  }
+  if (mismatches_ > 0) {
+    if (!c.first_failing_frame || *first_mismatch_frame_ < *c.first_failing_frame)
+      c.first_failing_frame = first_mismatch_frame_;
+    msg += fmt::format("{}{} pixels decode to another instance than the instance channel (first at frame {})",
+                       msg.empty() ? "" : "; ", mismatches_, *first_mismatch_frame_);
+  }
+  c.verdict = overflow_ || mismatches_ > 0 ? Verdict::fail : Verdict::pass;
+  if (c.verdict == Verdict::pass)
+    msg = fmt::format("peak {} cluster IDs ≤ {} (2^{}){}", peak_ids_, limit, params_.layout.cluster_bits,
+                      rendered_ ? fmt::format(", 0 decode mismatches in {} frames", frames_drawn_) : ", count only");
+  c.message = msg;
+  return c;
+}
+
+}  // namespace gi

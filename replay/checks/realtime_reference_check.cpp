@@ -1,0 +1,162 @@
+#include "replay/checks/realtime_reference_check.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/exr_io.h"
+#include "core/reference/reference_cache.h"
+#include "reports/json_figures.h"
+
+namespace gi {
+namespace {
+
+double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+Image average(const Image& a, const Image& b) {
+  Image m(a.width, a.height);
+  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+  return m;
+}
+
+// One chain's frame against the reference: compare() treats (a, b) as halves
+// of the mean (a+b)/2; a single chain has twice that noise variance.
+Comparison single_chain(const Image& a, const Image& b, const ReferenceResult& ref) {
+  Comparison c = compare(a, a, b, ref.mean, ref.half_a, ref.half_b);
+  c.noise_x *= 2.0;
+  c.combined_noise = c.noise_x + c.noise_y;
+  c.relmse_over_noise = c.combined_noise > 0 ? c.relmse / c.combined_noise : 0.0;
+  c.bias_relmse = std::max(0.0, c.relmse - c.combined_noise);
+  c.energy_ratio_sigma *= std::sqrt(2.0);  // dominated by the GPU side at realtime sample counts
+  return c;
+}
+
+nlohmann::json comparison_json(const Comparison& c) {
+  return {{"relmse", json_figure(c.relmse)},
+          {"noise_gpu", json_figure(c.noise_x)},
+          {"noise_reference", json_figure(c.noise_y)},
+          {"combined_noise", json_figure(c.combined_noise)},
+          {"relmse_over_noise", json_figure(c.relmse_over_noise)},
+          {"bias_relmse", json_figure(c.bias_relmse)},
+          {"energy_ratio", json_figure(c.energy_ratio)},
+          {"energy_ratio_sigma", json_figure(c.energy_ratio_sigma)},
+          {"mean_abs_error", json_figure(c.mean_abs_error)},
+          {"max_luminance_ratio", json_figure(c.max_luminance_ratio)},
+          {"nonfinite_gpu", c.nonfinite_x}};
+}
+
+}  // namespace
+
+double edge_region_relmse(const Image& x, const Image& y) {
+  const int w = static_cast<int>(y.width), h = static_cast<int>(y.height);
+  double sum = 0;
+  std::size_t n = 0;
+  for (int py = 0; py < h; ++py)
+    for (int px = 0; px < w; ++px) {
+      double lo = INFINITY, hi = 0;
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+          const int qx = std::clamp(px + dx, 0, w - 1), qy = std::clamp(py + dy, 0, h - 1);
+          const double l = lum(y.pixels[std::size_t(qy) * w + qx]);
+          lo = std::min(lo, l);
+          hi = std::max(hi, l);
+        }
+      if (!(hi > 2.0 * lo + 1e-3)) continue;
+      const std::size_t i = std::size_t(py) * w + px;
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(x.pixels[i][c]) - double(y.pixels[i][c]);
+        sum += d * d / (double(y.pixels[i][c]) * y.pixels[i][c] + kRelmseEpsilon);
+      }
+      n += 3;
+    }
+  return n ? sum / double(n) : 0.0;
+}
+
+RealtimeReferenceCheck::RealtimeReferenceCheck(ReferenceCheckParams params, std::uint32_t seed,
+                                               std::filesystem::path cache_dir, std::filesystem::path out_dir)
+    : params_(std::move(params)), seed_(seed), cache_dir_(std::move(cache_dir)), out_dir_(std::move(out_dir)) {}
+
+bool RealtimeReferenceCheck::wants(std::uint32_t frame) const {
+  return std::find(params_.frames.begin(), params_.frames.end(), frame) != params_.frames.end();
+}
+
+void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu) {
+  ReferenceOptions options;
+  options.width = gpu.frame_a.width;
+  options.height = gpu.frame_a.height;
+  options.spp = params_.spp;
+  options.seed = seed_;
+  options.direct_only = true;
+  bool hit = false;
+  const ReferenceResult ref = cached_reference(scene, options, cache_dir_, &hit);
+
+  FrameComparison f;
+  f.frame = frame;
+  f.window_start = gpu.window_start;
+  f.window_frames = gpu.window_frames;
+  const Image mean = average(gpu.mean_a, gpu.mean_b);
+  f.temporal = compare(mean, gpu.mean_a, gpu.mean_b, ref.mean, ref.half_a, ref.half_b);
+  f.per_frame = single_chain(gpu.frame_a, gpu.frame_b, ref);
+  f.verdict = f.temporal.judge(params_.relmse_noise_factor, params_.energy_tolerance, params_.relmse_tolerance);
+  f.temporal_edge_relmse = edge_region_relmse(mean, ref.mean);
+  f.reference_seconds = ref.seconds;
+  f.reference_cached = hit;
+  f.evidence = fmt::format("reference/frame_{:05}.exr", frame);
+  write_exr(out_dir_ / f.evidence,
+            {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frame_a}, {"embree_di", &ref.mean}});
+  frames_.push_back(std::move(f));
+}
+
+CheckResult RealtimeReferenceCheck::result() const {
+  CheckResult r;
+  r.name = "reference";
+  r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
+              {"energy_tolerance", params_.energy_tolerance},
+              {"relmse_tolerance", params_.relmse_tolerance},
+              {"reference_spp", params_.spp},
+              {"judged_on", "temporal mean over the static window (two independent chains as halves)"}};
+  if (frames_.empty()) {
+    r.verdict = Verdict::inconclusive;
+    r.message = "no frame was compared";
+    return r;
+  }
+  bool any_fail = false, any_inconclusive = false;
+  std::string first_problem;
+  nlohmann::json list = nlohmann::json::array();
+  for (const FrameComparison& f : frames_) {
+    list.push_back({{"frame", f.frame},
+                    {"window_start", f.window_start},
+                    {"window_frames", f.window_frames},
+                    {"temporal_mean", comparison_json(f.temporal)},
+                    {"temporal_mean_edge_region_relmse", json_figure(f.temporal_edge_relmse)},
+                    {"per_frame", comparison_json(f.per_frame)},
+                    {"reference_seconds", json_figure(f.reference_seconds)},
+                    {"reference_cached", f.reference_cached},
+                    {"verdict", f.verdict.passed ? "pass" : (f.verdict.inconclusive ? "inconclusive" : "fail")},
+                    {"reason", f.verdict.reason}});
+    r.evidence.push_back(f.evidence);
+    if (!f.verdict.passed && first_problem.empty())
+      first_problem = fmt::format("frame {} (temporal mean of {} frames): {}; measured energy ratio {:.4f} "
+                                  "(1 sigma {:.2g}), relMSE {:.3g} = {:.2f}x combined noise",
+                                  f.frame, f.window_frames, f.verdict.reason, f.temporal.energy_ratio,
+                                  f.temporal.energy_ratio_sigma, f.temporal.relmse, f.temporal.relmse_over_noise);
+    if (!f.verdict.passed && !f.verdict.inconclusive) {
+      if (!any_fail) r.first_failing_frame = f.frame;
+      any_fail = true;
+    }
+    any_inconclusive = any_inconclusive || f.verdict.inconclusive;
+  }
+  r.figures["frames"] = list;
+  const FrameComparison& last = frames_.back();
+  r.verdict = any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
+  r.message = r.verdict == Verdict::pass
+                  ? fmt::format("frame {}: DI temporal mean of {} frames: relMSE {:.3g} = {:.2f}x combined noise "
+                                "{:.3g}; energy ratio {:.4f}; per frame relMSE {:.3g}",
+                                last.frame, last.window_frames, last.temporal.relmse, last.temporal.relmse_over_noise,
+                                last.temporal.combined_noise, last.temporal.energy_ratio, last.per_frame.relmse)
+                  : first_problem;
+  return r;
+}
+
+}  // namespace gi

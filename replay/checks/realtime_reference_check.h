@@ -1,0 +1,63 @@
+// The `reference` check for the realtime mode (DESIGN §5, §6): the DI signal
+// against the Embree direct-lighting reference (core/shared/direct_integrator.h
+// defines "DI" for both), per compared frame and for the temporal mean over the
+// static window that frame ends.
+//
+// Noise honesty: temporal reuse correlates a chain's frames, so halves made of
+// even and odd frames would understate the noise. The renderer runs two
+// independent DI chains instead (own light tiles, reservoirs, random streams);
+// their temporal means are two independent halves, and their difference
+// estimates the noise of their average (metrics.h estimator_noise). The
+// per-frame figures are for chain A alone, whose noise is twice that of the
+// two-chain average (Var(A) = E[(A − B)²] / 2).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "core/image.h"
+#include "core/metrics.h"
+#include "core/scene.h"
+#include "replay/checks/check_result.h"
+#include "replay/checks/reference_check.h"
+
+namespace gi {
+
+// What the pipeline hands the check at a compared frame.
+struct RealtimeEstimate {
+  Image frame_a, frame_b;  // this frame's DI of chains A and B
+  Image mean_a, mean_b;    // temporal means over the window
+  std::uint32_t window_start = 0, window_frames = 0;
+};
+
+// Error on pixels near strong luminance edges of the reference (shadow
+// boundaries, penumbrae — where "halo" shadows sit): relMSE over pixels whose
+// 7×7 neighbourhood in the reference spans a luminance ratio above 2.
+double edge_region_relmse(const Image& x, const Image& reference);
+
+class RealtimeReferenceCheck {
+ public:
+  RealtimeReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
+                         std::filesystem::path out_dir);
+  bool wants(std::uint32_t frame) const;
+  void compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu);
+  CheckResult result() const;
+
+ private:
+  struct FrameComparison {
+    std::uint32_t frame, window_start, window_frames;
+    Comparison temporal;   // (A + B)/2 of the temporal means
+    Comparison per_frame;  // chain A's frame, noise scaled to one chain
+    ComparisonVerdict verdict;
+    double temporal_edge_relmse, reference_seconds;
+    bool reference_cached;
+    std::string evidence;
+  };
+  ReferenceCheckParams params_;
+  std::uint32_t seed_;
+  std::filesystem::path cache_dir_, out_dir_;
+  std::vector<FrameComparison> frames_;
+};
+
+}  // namespace gi

@@ -1,0 +1,27 @@
+#include "replay/realtime_settings.h"
+
+#include "gpu/passes/di_pipeline.h"
+
+namespace gi {
+
+gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& scene, std::uint32_t chains) {
+  gpu::DiSettings s;
+  s.tile_count = static_cast<std::uint32_t>(p.integer("light_tiles.tile_count"));
+  s.initial_samples = static_cast<std::uint32_t>(p.integer("restir_di.initial_samples"));
+  s.samples_per_tile = static_cast<std::uint32_t>(p.integer("light_tiles.samples_per_tile"));
+  if (p.flag("light_tiles.size_to_scene"))
+    s.samples_per_tile = gpu::light_tile_samples_for_scene(scene, s.samples_per_tile, s.initial_samples);
+  s.exposure = static_cast<float>(p.number("light_tiles.exposure"));
+  s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
+  s.confidence_cap = static_cast<float>(p.number("restir_di.confidence_cap"));
+  s.spatial_radius = static_cast<float>(p.number("restir_di.spatial_radius_px"));
+  s.spatial_tries = static_cast<std::uint32_t>(p.integer("restir_di.spatial_tries"));
+  s.plane_tolerance = static_cast<float>(p.number("restir_di.dissimilar_plane_tolerance"));
+  s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
+  s.balance_mis = p.text("restir_di.mis") == "balance";
+  s.visibility_final = p.text("restir_di.visibility") == "final";
+  s.chains = chains;
+  return s;
+}
+
+}  // namespace gi

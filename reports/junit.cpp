@@ -1,0 +1,115 @@
+#include "reports/junit.h"
+
+#include <fmt/format.h>
+
+namespace gi {
+namespace {
+
+std::string figure_text(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+std::string describe(const nlohmann::json& r) {
+  return fmt::format("{} {}: baseline {}, measured {}, tolerance {}", r.value("metric", "?"), r.value("status", "?"),
+                     figure_text(r.value("baseline", nlohmann::json())),
+                     figure_text(r.value("measured", nlohmann::json())), r.value("tolerance", ""));
+}
+
+struct Case {
+  std::string classname, name, failure, failure_text, error, skipped;
+  double seconds = 0;
+};
+
+std::string render(const Case& c) {
+  std::string out = fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.3f}\"", xml_escape(c.classname),
+                                xml_escape(c.name), c.seconds);
+  if (c.failure.empty() && c.error.empty() && c.skipped.empty()) return out + "/>\n";
+  out += ">\n";
+  if (!c.failure.empty())
+    out += fmt::format("      <failure message=\"{}\">{}</failure>\n", xml_escape(c.failure), xml_escape(c.failure_text));
+  if (!c.error.empty()) out += fmt::format("      <error message=\"{}\"/>\n", xml_escape(c.error));
+  if (!c.skipped.empty()) out += fmt::format("      <skipped message=\"{}\"/>\n", xml_escape(c.skipped));
+  return out + "    </testcase>\n";
+}
+
+}  // namespace
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // XML 1.0 forbids most control characters even escaped.
+        if (static_cast<unsigned char>(ch) < 0x20 && ch != '\n' && ch != '\t' && ch != '\r') out += '?';
+        else out += ch;
+    }
+  }
+  return out;
+}
+
+std::string junit_xml(const nlohmann::json& suite) {
+  std::vector<Case> cases;
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
+    const std::string scenario = row.value("name", row.value("file", "?"));
+    const nlohmann::json wall = row.value("wall_seconds", nlohmann::json(0.0));
+    const double seconds = wall.is_number() ? wall.get<double>() : 0.0;
+    const std::string status = row.value("status", "complete");
+    if (status != "complete") {
+      cases.push_back({scenario, "run", "", "", "", "not run: " + status, 0});
+      continue;
+    }
+    if (row.contains("error")) {
+      cases.push_back({scenario, "run", "", "", row["error"].get<std::string>(), "", seconds});
+      continue;
+    }
+    const nlohmann::json regressions = row.value("regressions", nlohmann::json::array());
+    std::vector<bool> attributed(regressions.size(), false);
+    const nlohmann::json checks = row.value("checks", nlohmann::json::array());
+    for (const nlohmann::json& c : checks) {
+      Case k{scenario, c.value("name", "?"), "", "", "", "", seconds / double(checks.size() + 1)};
+      if (c.value("verdict", "fail") != "pass") {
+        k.failure = fmt::format("{}: {}", c.value("verdict", "fail"), c.value("message", ""));
+        k.failure_text = "limits: " + c.value("limits", nlohmann::json::object()).dump() + "\n";
+      }
+      const std::string prefix = "checks/" + k.name + "/";
+      for (std::size_t i = 0; i < regressions.size(); ++i) {
+        const nlohmann::json& r = regressions[i];
+        if (r.value("metric", "").rfind(prefix, 0) != 0) continue;
+        attributed[i] = true;
+        if (k.failure.empty()) k.failure = "regression: " + describe(r);
+        k.failure_text += describe(r) + "\n";
+      }
+      cases.push_back(k);
+    }
+    const std::string comparison = row.value("baseline_status", "no_baseline");
+    Case b{scenario, "baseline", "", "", "", "", seconds / double(checks.size() + 1)};
+    if (comparison != "compared") b.skipped = "no baseline for this scenario and device class";
+    for (std::size_t i = 0; i < regressions.size(); ++i) {
+      if (attributed[i]) continue;
+      if (b.failure.empty()) b.failure = "regression: " + describe(regressions[i]);
+      b.failure_text += describe(regressions[i]) + "\n";
+    }
+    cases.push_back(b);
+  }
+  std::size_t failures = 0, errors = 0, skipped = 0;
+  double total = 0;
+  for (const Case& c : cases) {
+    failures += !c.failure.empty();
+    errors += !c.error.empty();
+    skipped += !c.skipped.empty();
+    total += c.seconds;
+  }
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  out += fmt::format("<testsuites name=\"giharness nightly\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\" time=\"{:.3f}\">\n",
+                     cases.size(), failures, errors, skipped, total);
+  out += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\" time=\"{:.3f}\">\n",
+                     xml_escape(suite.value("suite", "suite")), cases.size(), failures, errors, skipped, total);
+  for (const Case& c : cases) out += render(c);
+  out += "  </testsuite>\n</testsuites>\n";
+  return out;
+}
+
+}  // namespace gi

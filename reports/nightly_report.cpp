@@ -1,0 +1,274 @@
+#include "reports/nightly_report.h"
+
+#include <fstream>
+#include <map>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "core/atomic_file.h"
+#include "core/exr_io.h"
+#include "core/png_preview.h"
+#include "reports/gnuplot.h"
+#include "reports/html_page.h"
+
+namespace gi {
+namespace {
+
+std::string anchor(const std::string& name) {
+  std::string out = "s-";
+  for (char ch : name) out += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
+  return out;
+}
+
+double number_or_nan(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : std::nan(""); }
+
+// The last compared frame's relMSE of the reference check, NaN without one.
+double last_relmse(const nlohmann::json& summary) {
+  for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array()))
+    if (c.value("name", "") == "reference") {
+      const nlohmann::json frames = c["figures"].value("frames", nlohmann::json::array());
+      if (!frames.empty()) return number_or_nan(frames.back().value("relmse", nlohmann::json()));
+    }
+  return std::nan("");
+}
+
+// One plot per numeric per-frame key, one plot per nested object (pass_ms:
+// a line per pass), and the reference check's compared frames.
+std::vector<Plot> per_frame_plots(const std::string& scenario, const nlohmann::json& summary) {
+  std::vector<Plot> plots;
+  const nlohmann::json frames = summary.value("frames", nlohmann::json::array());
+  std::map<std::string, Plot> scalar, grouped;
+  for (const nlohmann::json& f : frames) {
+    const double x = number_or_nan(f.value("frame", nlohmann::json()));
+    for (const auto& [key, value] : f.items()) {
+      if (key == "frame") continue;
+      if (value.is_number()) {
+        Plot& p = scalar[key];
+        if (p.series.empty()) {
+          p = {scenario + ": " + key, "frame", key, false, false, {{key, {}, {}, true}}};
+        }
+        p.series[0].points.emplace_back(x, value.get<double>());
+      } else if (value.is_object()) {
+        Plot& p = grouped[key];
+        if (p.title.empty()) p = {scenario + ": " + key, "frame", key, false, false, {}};
+        for (const auto& [sub, v] : value.items()) {
+          auto it = std::find_if(p.series.begin(), p.series.end(), [&](const PlotSeries& s) { return s.title == sub; });
+          if (it == p.series.end()) it = p.series.insert(p.series.end(), PlotSeries{sub, {}, {}, true});
+          it->points.emplace_back(x, number_or_nan(v));
+        }
+      }
+    }
+  }
+  for (auto& [k, p] : grouped) plots.push_back(std::move(p));
+  for (auto& [k, p] : scalar) plots.push_back(std::move(p));
+  for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array())) {
+    const nlohmann::json compared = c.value("figures", nlohmann::json::object()).value("frames", nlohmann::json::array());
+    if (compared.empty() || !compared[0].contains("relmse")) continue;
+    Plot p{scenario + ": " + c.value("name", "") + " check error", "frame", "relMSE", false, true, {}};
+    for (const char* key : {"relmse", "combined_noise"}) {
+      PlotSeries s{key, {}, {}, false};  // few compared frames: points
+      for (const nlohmann::json& f : compared)
+        s.points.emplace_back(number_or_nan(f.value("frame", nlohmann::json())), number_or_nan(f.value(key, nlohmann::json())));
+      p.series.push_back(s);
+    }
+    plots.push_back(p);
+  }
+  return plots;
+}
+
+std::string flat_figures(const nlohmann::json& j, const std::string& prefix = "") {
+  std::string out;
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) out += flat_figures(v, prefix.empty() ? k : prefix + "." + k);
+  } else if (j.is_array()) {
+    for (const nlohmann::json& item : j) {
+      const std::string p = item.is_object() && item.contains("frame") ? fmt::format("{}[frame {}]", prefix, item["frame"].dump()) : prefix;
+      out += flat_figures(item, p);
+    }
+  } else {
+    out += "<div><code>" + html_escape(prefix) + "</code> " + html_figure(j) + "</div>";
+  }
+  return out;
+}
+
+std::string checks_table(const nlohmann::json& summary) {
+  std::vector<std::vector<std::string>> rows;
+  for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array())) {
+    const nlohmann::json f = c.value("first_failing_frame", nlohmann::json());
+    rows.push_back({html_escape(c.value("name", "")), html_verdict(c.value("verdict", "")),
+                    html_escape(c.value("message", "")) + (f.is_null() ? "" : " (first failing frame " + f.dump() + ")"),
+                    "<div class=\"small\">" + flat_figures(c.value("figures", nlohmann::json::object())) + "</div>",
+                    "<div class=\"small\">" + flat_figures(c.value("limits", nlohmann::json::object())) + "</div>"});
+  }
+  if (rows.empty()) return "<p class=\"note\">no checks</p>";
+  return html_table({"check", "verdict", "message", "figures", "limits"}, rows);
+}
+
+std::vector<std::vector<std::string>> regression_rows(const std::string& scenario, const nlohmann::json& deltas) {
+  std::vector<std::vector<std::string>> rows;
+  for (const nlohmann::json& d : deltas)
+    rows.push_back({html_escape(scenario), "<code>" + html_escape(d.value("metric", "")) + "</code>",
+                    html_verdict(d.value("status", "")), html_figure(d.value("baseline", nlohmann::json())),
+                    html_figure(d.value("measured", nlohmann::json())), html_escape(d.value("tolerance", "")),
+                    html_figure(d.value("limit", nlohmann::json()))});
+  return rows;
+}
+
+const std::vector<std::string> kRegressionHeader = {"scenario", "metric", "status", "baseline", "measured",
+                                                    "tolerance", "limit"};
+
+// Previews of every layer of each EXR the checks name as evidence (the
+// reference check's gpu / embree / error), linked to the EXR; then captures.
+std::string image_section(const std::filesystem::path& scenario_dir, const std::string& scenario_rel,
+                          const nlohmann::json& summary) {
+  std::string out;
+  std::vector<std::string> evidence;
+  for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array()))
+    for (const nlohmann::json& e : c.value("evidence", nlohmann::json::array())) evidence.push_back(e);
+  for (const std::string& e : evidence) {
+    if (std::filesystem::path(e).extension() != ".exr") continue;
+    const std::filesystem::path exr = scenario_dir / e;
+    std::map<std::string, Image> layers;
+    try {
+      layers = read_exr(exr);
+    } catch (const std::exception& ex) {
+      out += "<p class=\"note\">" + html_escape(ex.what()) + "</p>";
+      continue;
+    }
+    const std::string href = html_escape(scenario_rel + "/" + e);
+    out += fmt::format("<h4>{} <a href=\"{}\">(EXR)</a></h4><div class=\"triplet\">", html_escape(e), href);
+    for (const char* name : {"gpu", "embree", "error"}) {
+      const auto it = layers.find(name);
+      if (it == layers.end()) continue;
+      const std::filesystem::path png =
+          scenario_dir / "previews" / (std::filesystem::path(e).stem().string() + "_" + name + ".png");
+      write_png_preview(png, it->second);
+      const std::string caption = std::string(name) == "gpu" ? "output (GPU)"
+                                  : std::string(name) == "embree" ? "reference (Embree)"
+                                                                  : "error map |gpu-ref|/(|ref|+0.1)";
+      out += fmt::format("<figure><a href=\"{}\">{}</a><figcaption>{}</figcaption></figure>", href,
+                         html_image_file(png, scenario_rel + " " + e + " " + name), html_escape(caption));
+    }
+    out += "</div>\n";
+  }
+  std::string captures;
+  for (const nlohmann::json& c : summary.value("captures", nlohmann::json::array())) {
+    const std::filesystem::path exr = c.get<std::string>();
+    std::filesystem::path png = exr;
+    png.replace_extension(".png");
+    captures += fmt::format("<figure><a href=\"{}\">{}</a><figcaption>{}</figcaption></figure>",
+                            html_escape(scenario_rel + "/" + exr.string()),
+                            html_image_file(scenario_dir / png, scenario_rel + " " + exr.string()),
+                            html_escape(exr.string()));
+  }
+  if (!captures.empty()) out += "<h4>captures</h4><div class=\"triplet\">" + captures + "</div>\n";
+  return out.empty() ? "<p class=\"note\">no images</p>" : out;
+}
+
+}  // namespace
+
+std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir, const nlohmann::json& suite) {
+  struct Page {
+    nlohmann::json row, summary;
+    std::size_t first_plot = 0, plot_count = 0;
+  };
+  std::vector<Page> pages;
+  std::vector<Plot> plots;
+  Plot scatter{"speed against error (last compared frame of the reference check)", "GPU ms/frame (sum of passes)",
+               "relMSE against Embree", true, true, {}};
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
+    Page page{row, nlohmann::json::object()};
+    if (row.contains("summary")) {
+      try {
+        page.summary = nlohmann::json::parse(std::ifstream(out_dir / row["summary"].get<std::string>()));
+      } catch (const std::exception& e) {
+        spdlog::warn("report: cannot read {}: {}", row["summary"].dump(), e.what());
+      }
+    }
+    const std::string name = row.value("name", row.value("file", "?"));
+    if (page.summary.is_object() && !page.summary.empty()) {
+      const std::vector<Plot> mine = per_frame_plots(name, page.summary);
+      page.first_plot = plots.size();
+      page.plot_count = mine.size();
+      plots.insert(plots.end(), mine.begin(), mine.end());
+      const double ms = number_or_nan(page.summary.value("timings", nlohmann::json::object()).value("total_mean_ms", nlohmann::json()));
+      scatter.series.push_back({name, {{ms, last_relmse(page.summary)}}, {name}, false});
+    }
+    pages.push_back(page);
+  }
+  const std::size_t scatter_id = plots.size();
+  plots.push_back(scatter);
+  const std::vector<PlotResult> drawn = render_plots(plots, out_dir / "plots");
+
+  std::string body = "<h1>giharness nightly</h1>\n";
+  const nlohmann::json device = suite.value("device", nlohmann::json::object());
+  std::vector<std::vector<std::string>> info = {
+      {"suite", html_escape(suite.value("suite", ""))},
+      {"verdict", html_verdict(suite.value("verdict", "?"))},
+      {"exit code", html_figure(suite.value("exit_code", nlohmann::json()))},
+      {"device", html_escape(device.value("name", "?")) + " &mdash; " + html_escape(device.value("driver_info", ""))},
+      {"device class", html_escape(suite.value("device_class", "?"))},
+      {"baseline", html_escape(suite.value("baseline_dir", "")) + " (" +
+                       html_escape(suite.value("baseline_status", "none")) + ")"},
+      {"wall time", html_figure(suite.value("wall_seconds", nlohmann::json())) + " s"},
+      {"build", html_escape(suite.value("build", nlohmann::json::object()).dump())}};
+  if (suite.contains("shard")) info.push_back({"shard", html_escape(suite["shard"].dump())});
+  if (suite.value("interrupted", false)) info.push_back({"interrupted", html_verdict("interrupted")});
+  body += html_table({"", ""}, info);
+
+  std::vector<std::vector<std::string>> overview, all_regressions;
+  for (const Page& p : pages) {
+    const std::string name = p.row.value("name", p.row.value("file", "?"));
+    std::size_t passed = 0, total = 0;
+    for (const nlohmann::json& c : p.row.value("checks", nlohmann::json::array())) {
+      ++total;
+      passed += c.value("verdict", "") == "pass";
+    }
+    const nlohmann::json deltas = p.row.value("regressions", nlohmann::json::array());
+    std::size_t regressed = 0;
+    for (const nlohmann::json& d : deltas) regressed += d.value("status", "") != "improved";
+    const nlohmann::json timings = p.summary.is_object() ? p.summary.value("timings", nlohmann::json::object()) : nlohmann::json::object();
+    overview.push_back({"<a href=\"#" + anchor(name) + "\">" + html_escape(name) + "</a>",
+                        html_verdict(p.row.value("verdict", p.row.value("status", "?"))),
+                        fmt::format("{}/{} pass", passed, total),
+                        fmt::format("{}", regressed) + " (" + html_escape(p.row.value("baseline_status", "no baseline")) + ")",
+                        "<span class=\"num\">" + html_figure(timings.value("total_mean_ms", nlohmann::json())) + "</span>",
+                        html_figure(p.row.value("wall_seconds", nlohmann::json()))});
+    for (auto& r : regression_rows(name, deltas)) all_regressions.push_back(r);
+  }
+  body += "<h2>Overview</h2>\n" +
+          html_table({"scenario", "verdict", "checks", "regressions", "GPU ms/frame", "wall s"}, overview);
+  body += "<h2>Changes against the baseline</h2>\n";
+  body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
+                                  : html_table(kRegressionHeader, all_regressions, "regressions");
+  body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error");
+
+  for (const Page& p : pages) {
+    const std::string name = p.row.value("name", p.row.value("file", "?"));
+    body += "<h2 id=\"" + anchor(name) + "\">" + html_escape(name) + " " +
+            html_verdict(p.row.value("verdict", p.row.value("status", "?"))) + "</h2>\n";
+    if (p.row.contains("error")) body += "<p>" + html_escape(p.row["error"].get<std::string>()) + "</p>\n";
+    if (!p.summary.is_object() || p.summary.empty()) continue;
+    // The settings a reader compares runs by; the full profile is in summary.json.
+    const nlohmann::json resolved = p.summary.value("resolved", nlohmann::json::object());
+    std::string settings;
+    for (const char* key : {"resolution", "frames", "seed", "mode", "samples_per_frame", "profile", "backend", "overrides"})
+      if (resolved.contains(key)) settings += std::string(settings.empty() ? "" : ", ") + key + " " + resolved[key].dump();
+    body += "<p class=\"small\">" + html_escape(p.summary["scenario"].value("file", "")) + " &mdash; " +
+            html_escape(settings) + " &mdash; <a href=\"" + html_escape(p.row["summary"].get<std::string>()) +
+            "\">summary.json</a></p>\n";
+    body += "<h3>Checks</h3>\n" + checks_table(p.summary);
+    const nlohmann::json deltas = p.row.value("regressions", nlohmann::json::array());
+    if (!deltas.empty()) body += "<h3>Changes against the baseline</h3>\n" + html_table(kRegressionHeader, regression_rows(name, deltas));
+    body += "<h3>Per-frame curves</h3>\n";
+    for (std::size_t i = p.first_plot; i < p.first_plot + p.plot_count; ++i) body += html_plot(drawn[i], plots[i].title) + "\n";
+    const std::filesystem::path rel = std::filesystem::path(p.row["summary"].get<std::string>()).parent_path();
+    body += "<h3>Images</h3>\n" + image_section(out_dir / rel, rel.string(), p.summary);
+  }
+  const std::filesystem::path report = out_dir / "report.html";
+  write_text_file(report, html_page("giharness nightly: " + suite.value("suite", ""), body));
+  return report;
+}
+
+}  // namespace gi

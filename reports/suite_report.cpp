@@ -1,0 +1,37 @@
+#include "reports/suite_report.h"
+
+#include <algorithm>
+
+#include <spdlog/spdlog.h>
+
+#include "core/atomic_file.h"
+#include "reports/junit.h"
+#include "reports/nightly_report.h"
+
+namespace gi {
+
+int suite_exit_code(const nlohmann::json& suite) {
+  int worst = 0;
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
+    worst = std::max(worst, row.value("exit_code", 0));
+  if (suite.value("interrupted", false)) worst = 3;
+  return worst;
+}
+
+int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, const std::filesystem::path& junit) {
+  const int code = suite_exit_code(suite);
+  suite["exit_code"] = code;
+  suite["verdict"] = suite.value("interrupted", false) ? "interrupted"
+                     : code == 0                       ? "pass"
+                     : code == 1                       ? "fail"
+                                                       : "error";
+  const std::filesystem::path junit_path = junit.empty() ? out_dir / "junit.xml" : junit;
+  suite["junit"] = junit_path.string();
+  suite["report"] = (out_dir / "report.html").string();
+  write_json_file(out_dir / "summary.json", suite);
+  write_text_file(junit_path, junit_xml(suite));
+  write_nightly_report(out_dir, suite);
+  return code;
+}
+
+}  // namespace gi

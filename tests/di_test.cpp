@@ -1,0 +1,67 @@
+// Realtime DI end to end (issue 3), on the shipped DI scenarios run through
+// the giharness binary: the packing-range energy loss of plain rgb9e5 (0.17)
+// is caught with the measured ratio in the message and goes away when only the
+// packing is switched; the 0.17 visibility order (spatial ray fed forward)
+// leaves more error near shadow edges than 0.18's. Each run is 160x90, 32
+// frames; the Embree DI references are cached after the first run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "test_support.h"
+
+namespace gi {
+namespace {
+
+struct DiRun {
+  int exit_code;
+  std::string output;
+  nlohmann::json reference;  // the reference check's last compared frame
+  std::string message;
+};
+
+DiRun run(const std::string& scenario, const std::string& extra, const std::string& tag) {
+  test::TempDir dir("di_" + tag);
+  const auto r = test::run_giharness("run " + (test::source_dir() / "scenarios" / scenario).string() + " " + extra +
+                                     " --out " + dir.path().string());
+  DiRun out{r.exit_code, r.output, {}, {}};
+  const nlohmann::json s = test::read_json(dir.path() / "summary.json");
+  for (const auto& c : s["checks"])
+    if (c["name"] == "reference") {
+      out.reference = c["figures"]["frames"].back();
+      out.message = c["message"].get<std::string>();
+    }
+  return out;
+}
+
+double energy(const DiRun& r) { return r.reference["temporal_mean"]["energy_ratio"].get<double>(); }
+double sigma(const DiRun& r) { return r.reference["temporal_mean"]["energy_ratio_sigma"].get<double>(); }
+
+TEST(RealtimeDi, PlainRgb9e5PackingLosesTheBrightEmitterAndTheCheckSaysHowMuch) {
+  // Only the packing differs between the two runs (0.18 profile, 0.17 packing).
+  const DiRun plain = run("di_packing_range.json", "--set light_tiles.radiance_encoding=plain", "packing_plain");
+  ASSERT_EQ(plain.exit_code, 1) << plain.output;
+  EXPECT_LT(energy(plain), 0.5) << plain.message;  // the 3e5 emitter is clipped to 65408
+  // The message carries the measured ratio.
+  EXPECT_NE(plain.message.find(fmt::format("energy ratio {:.4f}", energy(plain))), std::string::npos)
+      << plain.message;
+
+  // The log2 packing keeps the energy to within 2%. Not within the check's
+  // 1%: the remaining ~1.5% is the darkening of reused visibility (README,
+  // "Realtime mode"), present with either packing.
+  const DiRun log2 = run("di_packing_range.json", "", "packing_log2");
+  EXPECT_LT(std::abs(energy(log2) - 1.0), 0.02 + 3.0 * sigma(log2)) << log2.message;
+}
+
+TEST(RealtimeDi, FedForwardSpatialVisibilityLeavesMoreErrorAtShadowEdgesThanTheFinalRay) {
+  const DiRun final_ray = run("di_moving_occluder.json", "", "vis_final");
+  const DiRun fed = run("di_moving_occluder.json", "--set restir_di.visibility=spatial_fed_forward", "vis_fed");
+  const double e18 = final_ray.reference["temporal_mean_edge_region_relmse"].get<double>();
+  const double e17 = fed.reference["temporal_mean_edge_region_relmse"].get<double>();
+  EXPECT_GT(e17, 1.5 * e18) << "edge-region relMSE: fed forward " << e17 << ", final ray " << e18;
+}
+
+}  // namespace
+}  // namespace gi

@@ -1,0 +1,135 @@
+// The nightly's HTML report in a real browser: Debian's chromium, headless,
+// loads report.html from disk with the network unreachable by construction
+// (everything is embedded). Passes when the console shows no error, every
+// embedded image (plots, previews) decoded, and the screenshot is not blank.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#include <stb/stb_image.h>
+
+#include "tests/test_support.h"
+
+namespace gi {
+namespace {
+
+struct Shell {
+  int exit_code = -1;
+  std::string output;
+};
+
+Shell shell(const std::string& cmd) {
+  Shell r;
+  FILE* pipe = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// One headless Chromium run; `mode` is e.g. "--dump-dom" or "--screenshot=F".
+Shell chromium(const std::filesystem::path& html, const std::string& mode, const test::TempDir& profile) {
+  return shell(
+      "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync --disable-dev-shm-usage "
+      "--user-data-dir=" + (profile.path() / "profile").string() +
+      " --enable-logging=stderr --v=0 --window-size=1280,2400 --virtual-time-budget=5000 " + mode + " file://" +
+      html.string());
+}
+
+// Console messages Chromium logs at error level, and uncaught exceptions.
+std::vector<std::string> console_errors(const std::string& log) {
+  std::vector<std::string> errors;
+  static const std::regex console(R"(:CONSOLE\(\d+\)\] "(.*))");
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (std::regex_search(line, m, console) || line.find("Uncaught") != std::string::npos) errors.push_back(line);
+  }
+  return errors;
+}
+
+bool chromium_installed() { return shell("command -v chromium").exit_code == 0; }
+
+// Fraction of pixels that are not near-white, and how many distinct colours.
+std::pair<double, std::size_t> ink(const std::filesystem::path& png) {
+  int w = 0, h = 0, c = 0;
+  unsigned char* data = stbi_load(png.c_str(), &w, &h, &c, 3);
+  if (!data) return {0.0, 0};
+  std::size_t inked = 0;
+  std::set<unsigned> colours;
+  for (int i = 0; i < w * h; ++i) {
+    const unsigned char* p = data + 3 * i;
+    if (p[0] < 235 || p[1] < 235 || p[2] < 235) ++inked;
+    colours.insert((unsigned(p[0]) << 16) | (unsigned(p[1]) << 8) | p[2]);
+  }
+  stbi_image_free(data);
+  return {double(inked) / double(w * h), colours.size()};
+}
+
+// The detector itself: a page with a script error and a broken image is
+// caught (so a clean report is clean, not unobserved).
+TEST(ReportHtml, ChromiumConsoleErrorsAreDetected) {
+  ASSERT_TRUE(chromium_installed()) << "install Debian's chromium (.ci/setup)";
+  test::TempDir dir("report-html-bad");
+  const std::filesystem::path html = dir.path() / "bad.html";
+  std::ofstream(html) << "<!DOCTYPE html><html><body><img alt=\"x\" src=\"data:image/png;base64,AAAA\">"
+                         "<script>no_such_function();</script></body></html>";
+  const Shell r = chromium(html, "--dump-dom", dir);
+  EXPECT_FALSE(console_errors(r.output).empty()) << r.output;
+}
+
+TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
+  ASSERT_TRUE(chromium_installed()) << "install Debian's chromium (.ci/setup)";
+  test::TempDir dir("report-html");
+  const std::filesystem::path suite = dir.path() / "suite", out = dir.path() / "out";
+  std::filesystem::create_directories(suite);
+  std::filesystem::copy(test::source_dir() / "tests/data/suites/tiny/tiny_cornell.json", suite);
+  const test::CommandResult run = test::run_giharness("nightly --suite " + suite.string() + " --out " + out.string() +
+                                                      " --baseline " + (dir.path() / "none").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::filesystem::path html = out / "report.html";
+  std::ifstream in(html);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  // Self-contained: nothing is fetched (links to EXR evidence are anchors, not loads).
+  EXPECT_EQ(text.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(text.find("<link"), std::string::npos);
+  std::size_t plots = 0, previews = 0;
+  for (std::size_t p = text.find("data:image/svg+xml;base64,"); p != std::string::npos;
+       p = text.find("data:image/svg+xml;base64,", p + 1))
+    ++plots;
+  for (std::size_t p = text.find("data:image/png;base64,"); p != std::string::npos; p = text.find("data:image/png;base64,", p + 1))
+    ++previews;
+  // mean_luminance, nonfinite_*, window_*, pass_ms, the reference check's error, speed vs error.
+  EXPECT_GE(plots, 5u);
+  EXPECT_GE(previews, 4u);  // gpu, embree, error map + the capture
+  EXPECT_NE(text.find("reference/frame_00007.exr"), std::string::npos);
+
+  const Shell dom = chromium(html, "--dump-dom", dir);
+  EXPECT_TRUE(console_errors(dom.output).empty()) << dom.output;
+  std::smatch m;
+  const std::regex counts(R"re(data-images-ok="(\d+)" data-images-broken="(\d+)")re");
+  ASSERT_TRUE(std::regex_search(dom.output, m, counts))
+      << dom.output.substr(0, 4000);
+  EXPECT_EQ(std::stoul(m[1].str()), plots + previews);
+  EXPECT_EQ(m[2].str(), "0");
+
+  const std::filesystem::path png = dir.path() / "screenshot.png";
+  const Shell shot = chromium(html, "--screenshot=" + png.string(), dir);
+  EXPECT_TRUE(console_errors(shot.output).empty()) << shot.output;
+  ASSERT_TRUE(std::filesystem::exists(png)) << shot.output;
+  const auto [inked, colours] = ink(png);
+  EXPECT_GT(inked, 0.03) << "screenshot nearly blank";
+  EXPECT_GT(colours, 64u) << "screenshot has almost no colours: no images drawn";
+}
+
+}  // namespace
+}  // namespace gi
