@@ -26,15 +26,7 @@ GI_FN vec3 direct_trace(vec3 origin, vec3 direction, INOUT(uint) rng) {
   if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
     vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
     vec3 spawn = offset_ray_origin(s.position, ng);
-    vec3 shadow_dir = l;
-    float shadow_tmax = RAY_TMAX;
-    if (dist < RAY_TMAX) {
-      vec3 to_light = s.position + l * dist - spawn;
-      float shadow_dist = length(to_light);
-      shadow_dir = to_light / shadow_dist;
-      shadow_tmax = shadow_dist * (1.0f - 1e-4f);
-    }
-    if (max3(f) > 0.0f && trace_unoccluded(spawn, shadow_dir, shadow_tmax)) radiance += f * le / light_pdf;
+    if (max3(f) > 0.0f && light_sample_visible(s.position, spawn, l, dist)) radiance += f * le / light_pdf;
   }
   return radiance;
 }

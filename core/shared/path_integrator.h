@@ -17,6 +17,18 @@ GI_FN vec3 offset_ray_origin(vec3 p, vec3 n) {
 
 GI_FN float balance_heuristic(float a, float b) { return a / (a + b); }
 
+// Shadow test for a light sample (direction l, distance dist from p; dist =
+// RAY_TMAX for directional lights) from the offset origin `spawn`. The ray
+// aims from `spawn` at the light point itself: the segment meets the
+// emitter's plane only at its end, so a relative margin works at any
+// distance from the world origin.
+GI_FN bool light_sample_visible(vec3 p, vec3 spawn, vec3 l, float dist) {
+  if (dist >= RAY_TMAX) return trace_unoccluded(spawn, l, RAY_TMAX);
+  vec3 to_light = p + l * dist - spawn;
+  float shadow_dist = length(to_light);
+  return trace_unoccluded(spawn, to_light / shadow_dist, shadow_dist * (1.0f - 1e-4f));
+}
+
 // Picks one light uniformly, then a triangle, then a point (or a direction in
 // a directional light's cone). pdf is in solid angle at p, selection included.
 GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist, OUT(vec3) radiance,
@@ -117,18 +129,7 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
     float light_pdf;
     if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
       vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
-      // Aim the shadow ray from the offset origin at the light point itself:
-      // the segment meets the emitter's plane only at its end, so a relative
-      // margin works at any distance from the world origin.
-      vec3 shadow_dir = l;
-      float shadow_tmax = RAY_TMAX;
-      if (dist < RAY_TMAX) {
-        vec3 to_light = s.position + l * dist - spawn;
-        float shadow_dist = length(to_light);
-        shadow_dir = to_light / shadow_dist;
-        shadow_tmax = shadow_dist * (1.0f - 1e-4f);
-      }
-      if (max3(f) > 0.0f && trace_unoccluded(spawn, shadow_dir, shadow_tmax)) {
+      if (max3(f) > 0.0f && light_sample_visible(s.position, spawn, l, dist)) {
         float w = balance_heuristic(light_pdf, brdf_pdf(brdf, ns, v, l));
         radiance += throughput * f * le * (w / light_pdf);
       }
