@@ -158,11 +158,10 @@ TEST(Nightly, BadShardIsBadInput) {
   EXPECT_NE(r.output.find("--shard"), std::string::npos) << r.output;
 }
 
-// SIGINT during a night: the running scenario finishes, the rest are marked
-// not run, the summary is valid JSON, exit 3; --resume runs only the rest.
-TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
-  test::TempDir dir("nightly-interrupt");
-  const std::filesystem::path out = dir.path() / "out";
+// Starts `nightly` on the tiny suite into `out` and sends `sig` as soon as
+// the first scenario is complete (the summary is rewritten after each one).
+// Returns the wait status.
+int nightly_signalled_after_first(const test::TempDir& dir, const std::filesystem::path& out, int sig) {
   const std::string out_s = out.string(), suite_s = tiny_suite().string(), none = (dir.path() / "none").string();
   std::vector<std::string> args = {GIHARNESS_BINARY, "nightly", "--suite", suite_s, "--out", out_s, "--baseline", none};
   std::vector<char*> argv;
@@ -173,10 +172,8 @@ TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
   posix_spawn_file_actions_addopen(&actions, 1, (dir.path() / "log.txt").c_str(), O_WRONLY | O_CREAT, 0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, GIHARNESS_BINARY, &actions, nullptr, argv.data(), environ), 0);
+  EXPECT_EQ(posix_spawn(&pid, GIHARNESS_BINARY, &actions, nullptr, argv.data(), environ), 0);
   posix_spawn_file_actions_destroy(&actions);
-  // Interrupt as soon as the first scenario is complete (the summary is
-  // rewritten after each one).
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   bool first_done = false;
   while (!first_done && std::chrono::steady_clock::now() < deadline) {
@@ -187,10 +184,20 @@ TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
     } catch (...) {
     }
   }
-  ASSERT_TRUE(first_done) << slurp(dir.path() / "log.txt");
-  ::kill(pid, SIGINT);
+  EXPECT_TRUE(first_done) << slurp(dir.path() / "log.txt");
+  ::kill(pid, sig);
   int status = 0;
   ::waitpid(pid, &status, 0);
+  return status;
+}
+
+// SIGINT during a night: the running scenario finishes, the rest are marked
+// not run, the summary is valid JSON, exit 3; --resume runs only the rest.
+TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
+  test::TempDir dir("nightly-interrupt");
+  const std::filesystem::path out = dir.path() / "out";
+  const std::string out_s = out.string(), suite_s = tiny_suite().string(), none = (dir.path() / "none").string();
+  const int status = nightly_signalled_after_first(dir, out, SIGINT);
   ASSERT_TRUE(WIFEXITED(status)) << slurp(dir.path() / "log.txt");
   EXPECT_EQ(WEXITSTATUS(status), 3) << slurp(dir.path() / "log.txt");
   const nlohmann::json interrupted = test::read_json(out / "summary.json");
@@ -209,6 +216,36 @@ TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
   EXPECT_FALSE(done.value("interrupted", false));
   for (const nlohmann::json& row : done["scenarios"]) EXPECT_EQ(row["status"], "complete");
   EXPECT_EQ(done["scenarios"][0]["wall_seconds"], first_row["wall_seconds"]);  // kept, not rerun
+}
+
+// kill -9 during a night (no chance to clean up): what is on disk is valid,
+// --resume keeps the completed scenarios, and the final verdicts equal an
+// uninterrupted night's.
+TEST(Nightly, KilledNightResumesToTheUninterruptedVerdicts) {
+  test::TempDir dir("nightly-kill");
+  const std::filesystem::path out = dir.path() / "out";
+  const std::string out_s = out.string(), suite_s = tiny_suite().string(), none = (dir.path() / "none").string();
+  const int status = nightly_signalled_after_first(dir, out, SIGKILL);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the night ended before the kill; nothing to resume";
+  const nlohmann::json killed = test::read_json(out / "summary.json");  // valid JSON: written then renamed
+  ASSERT_EQ(killed["scenarios"][0]["status"], "complete");
+  const nlohmann::json first_row = killed["scenarios"][0];
+
+  test::run_giharness("nightly --suite " + suite_s + " --out " + out_s + " --baseline " + none + " --resume");
+  const nlohmann::json resumed = test::read_json(out / "summary.json");
+  EXPECT_EQ(resumed["scenarios"][0]["wall_seconds"], first_row["wall_seconds"]);  // kept, not rerun
+
+  const std::string fresh = (dir.path() / "fresh").string();
+  test::run_giharness("nightly --suite " + suite_s + " --out " + fresh + " --baseline " + none);
+  const nlohmann::json reference = test::read_json(std::filesystem::path(fresh) / "summary.json");
+  ASSERT_EQ(resumed["scenarios"].size(), reference["scenarios"].size());
+  for (std::size_t i = 0; i < reference["scenarios"].size(); ++i) {
+    SCOPED_TRACE(reference["scenarios"][i].value("name", ""));
+    EXPECT_EQ(resumed["scenarios"][i]["status"], "complete");
+    EXPECT_EQ(resumed["scenarios"][i]["verdict"], reference["scenarios"][i]["verdict"]);
+    EXPECT_EQ(resumed["scenarios"][i]["checks"], reference["scenarios"][i]["checks"]);
+  }
+  EXPECT_EQ(resumed["exit_code"], reference["exit_code"]);
 }
 
 }  // namespace
