@@ -25,6 +25,7 @@
 #include "replay/realtime_settings.h"
 #include "core/profile.h"
 #include "replay/events.h"
+#include "replay/frame_log.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 
@@ -120,8 +121,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   FlatInstances flat = flatten_instances(scene, geometry);
   renderer->update_scene(flat, visibility_of(scene));
 
-  std::map<std::string, std::vector<double>> pass_ms;
-  nlohmann::json per_frame = nlohmann::json::array();
+  FrameLog frame_log(options.out_dir / "frames.jsonl");
   std::uint64_t window_samples = 0;
   std::uint32_t window_start = 0;
   std::optional<std::uint32_t> first_nonfinite_frame;
@@ -164,26 +164,24 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     window_samples += scenario.samples_per_frame;
 
     nlohmann::json timings = nlohmann::json::object();
-    for (const auto& t : renderer->last_timings()) {
-      pass_ms[t.name].push_back(t.ms);
-      timings[t.name] = json_figure(t.ms);
-    }
+    for (const auto& t : renderer->last_timings()) timings[t.name] = json_figure(t.ms);
     last_mean = realtime ? renderer->di().frame(0) : renderer->reference_mean();
     const std::uint64_t nonfinite_samples = realtime ? 0 : renderer->reference_nonfinite_samples();
     const std::uint64_t nonfinite_pixels = count_nonfinite(last_mean);
     nonfinite_pixels_total += nonfinite_pixels;
     if ((nonfinite_pixels > 0 || nonfinite_samples > 0) && !first_nonfinite_frame)
       first_nonfinite_frame = frame;
-    per_frame.push_back({{"frame", frame},
+    nlohmann::json record = {{"frame", frame},
                          {"window_start", window_start},
                          {"window_samples", window_samples},
                          {"mean_luminance", json_figure(mean_luminance(last_mean))},
                          {"nonfinite_pixels", nonfinite_pixels},
                          {"nonfinite_samples", nonfinite_samples},
-                         {"pass_ms", timings}});
+                         {"pass_ms", timings}};
     if (cluster_ids_check)
-      per_frame.back()["cluster_ids"] =
+      record["cluster_ids"] =
           cluster_ids_check->record_frame(frame, renderer->packed_visibility(), renderer->cluster_table());
+    frame_log.add(record);
 
     if (captures.count(frame)) {
       // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
@@ -261,8 +259,17 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   s["verdict"] = all_pass ? "pass" : "fail";
   s["exit_code"] = result.exit_code;
   s["checks"] = checks;
+  // Timing statistics over the kept records: every frame up to the log's
+  // capacity, a regular subsample of longer runs (frames_log says which).
+  const nlohmann::json kept_frames = frame_log.kept();
+  std::map<std::string, std::vector<double>> pass_ms;
+  for (const nlohmann::json& f : kept_frames)
+    for (const auto& [name, ms] : f["pass_ms"].items())
+      if (ms.is_number()) pass_ms[name].push_back(ms.get<double>());
   s["timings"] = timing_summary(pass_ms);
-  s["frames"] = per_frame;
+  s["frames"] = kept_frames;
+  frame_log.finish();
+  s["frames_log"] = {{"file", "frames.jsonl"}, {"records", frame_log.count()}, {"kept_every", frame_log.stride()}};
   s["final_image_hash"] = image_hash(last_mean);
   s["captures"] = capture_files;
   s["wall_seconds"] = json_figure(wall);
