@@ -1,5 +1,7 @@
 #include "gpu/device.h"
 
+#include <cstdio>
+
 #include <cstdlib>
 #include <cstring>
 #include <regex>
@@ -11,6 +13,42 @@
 #include "core/errors.h"
 
 namespace gi::gpu {
+
+namespace {
+
+std::function<void(const std::string&)>& fault_handler() {
+  static std::function<void(const std::string&)> handler;
+  return handler;
+}
+
+std::uint64_t gpu_timeout_ns() {
+  static const std::uint64_t ns = [] {
+    const char* env = std::getenv("GIHARNESS_GPU_TIMEOUT_S");
+    double seconds = 300.0;
+    if (env && *env) {
+      char* end = nullptr;
+      const double v = std::strtod(env, &end);
+      if (end != env && v >= 0.0 && v < 1e9) seconds = v;
+    }
+    return static_cast<std::uint64_t>(seconds * 1e9);
+  }();
+  return ns;
+}
+
+[[noreturn]] void gpu_fault(const std::string& message) {
+  if (fault_handler()) {
+    try {
+      fault_handler()(message);
+    } catch (...) {
+    }
+  }
+  std::fprintf(stderr, "giharness: device error: %s\n", message.c_str());
+  std::fflush(stderr);
+  std::_Exit(3);
+}
+
+}  // namespace
+
 
 const char* vk_result_name(VkResult result) {
   switch (result) {
@@ -388,7 +426,20 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record)
   si.pCommandBuffers = &cmd;
   check_vk(vkResetFences(device_, 1, &fence_), "vkResetFences");
   check_vk(vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
-  check_vk(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, gpu_timeout_ns());
+  if (waited == VK_TIMEOUT || waited == VK_ERROR_DEVICE_LOST) {
+    const std::string message =
+        waited == VK_TIMEOUT
+            ? fmt::format("GPU timeout: a submission did not finish within {} s (GIHARNESS_GPU_TIMEOUT_S) on {}",
+                          double(gpu_timeout_ns()) * 1e-9, info_.name)
+            : fmt::format("device lost (VK_ERROR_DEVICE_LOST) on {}", info_.name);
+    gpu_fault(message);
+  }
+  check_vk(waited, "vkWaitForFences");
+}
+
+void Device::set_fault_handler(std::function<void(const std::string& message)> handler) {
+  fault_handler() = std::move(handler);
 }
 
 }  // namespace gi::gpu

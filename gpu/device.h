@@ -89,7 +89,14 @@ class Device {
 
   // Records with `record` into a fresh primary command buffer, submits it to
   // the compute queue and waits for it to finish.
+  // Records, submits and waits. A submission that does not finish within
+  // GIHARNESS_GPU_TIMEOUT_S seconds (default 300), or a lost device, ends the
+  // process with exit code 3 after calling the fault handler: work may still be
+  // in flight, so unwinding (which frees buffers the GPU may be using) is not
+  // safe. The handler is where a caller saves what it has (nightly marks the
+  // scenario and rewrites its summary).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+  static void set_fault_handler(std::function<void(const std::string& message)> handler);
 
  private:
   void destroy() noexcept;

@@ -215,7 +215,18 @@ int run_nightly(const NightlyOptions& o) {
     if (stop.requested()) break;
     const auto t0 = std::chrono::steady_clock::now();
     spdlog::info("[{}/{}] {} ...", k, files.size(), row["file"].get<std::string>());
+    // A hung or lost GPU ends the process (see Device::submit_and_wait):
+    // mark this scenario and keep the suite summary valid first.
+    gpu::Device::set_fault_handler([&](const std::string& message) {
+      row["status"] = "device_error";
+      row["exit_code"] = 3;
+      row["verdict"] = "error";
+      row["error"] = message;
+      suite["interrupted"] = true;
+      write_json_file(summary_path, suite);
+    });
     const ScenarioOutcome outcome = run_one(row["file"].get<std::string>(), o, row);
+    gpu::Device::set_fault_handler(nullptr);
     if (!outcome.summary.is_null()) {
       const nlohmann::json device = outcome.summary.value("device", nlohmann::json::object());
       const std::string cls = device_class(device);
