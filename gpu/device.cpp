@@ -1,5 +1,6 @@
 #include "gpu/device.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <cstdlib>
@@ -436,6 +437,14 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record)
     gpu_fault(message);
   }
   check_vk(waited, "vkWaitForFences");
+}
+
+std::uint64_t Device::largest_heap_bytes() const {
+  VkPhysicalDeviceMemoryProperties m{};
+  vkGetPhysicalDeviceMemoryProperties(physical_, &m);
+  std::uint64_t largest = 0;
+  for (std::uint32_t i = 0; i < m.memoryHeapCount; ++i) largest = std::max<std::uint64_t>(largest, m.memoryHeaps[i].size);
+  return largest;
 }
 
 void Device::set_fault_handler(std::function<void(const std::string& message)> handler) {

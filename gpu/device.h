@@ -83,6 +83,8 @@ class Device {
   const DeviceInfo& info() const { return info_; }
   const KhrFunctions& khr() const { return khr_; }
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
+  // Size of the largest memory heap: what one scenario's buffers must fit in.
+  std::uint64_t largest_heap_bytes() const;
   std::uint32_t min_scratch_offset_alignment() const { return min_scratch_alignment_; }
   bool validation_enabled() const { return validation_; }
   TraceBackend backend() const { return backend_; }

@@ -26,6 +26,7 @@
 #include "core/profile.h"
 #include "replay/events.h"
 #include "replay/frame_log.h"
+#include "replay/resource_limits.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 
@@ -102,7 +103,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                     o->limit);
   }
 
+  check_resource_limits(scenario, initial, 0);
   gpu::Device device(options.device, gpu::parse_backend_request(options.backend));
+  check_resource_limits(scenario, initial, device.largest_heap_bytes());
   gpu::ShaderCompiler compiler(cache_root() / "spirv");
   FlatGeometry geometry = flatten_geometry(scene);
   gpu::RendererOptions renderer_options;

@@ -7,6 +7,10 @@
 #include <fstream>
 #include <limits>
 
+#include "core/errors.h"
+#include "core/scenario.h"
+#include "core/scene_builder.h"
+#include "replay/resource_limits.h"
 #include "tests/gltf_fixture.h"
 #include "tests/test_support.h"
 
@@ -111,6 +115,53 @@ TEST_F(BadGltf, RecursiveNodes) {
   json d = TinyGltf{}.doc();
   d["nodes"][0]["children"] = {0};
   expect_bad(d, "/nodes/0/children/0");
+}
+
+}  // namespace
+}  // namespace gi
+
+namespace gi {
+namespace {
+
+// Limits: a resolution the parser accepts (8192x8192) but whose buffers would
+// not fit the device's memory is bad input naming /resolution, checked before
+// anything is allocated.
+TEST(BadInput, ScenarioTooLargeForTheDevice) {
+  test::TempDir dir("too-large");
+  const auto file = dir.path() / "huge.json";
+  std::ofstream(file) << R"({"name": "huge", "scene": {"generator": "cornell_box"}, "resolution": [8192, 8192],
+                             "frames": 1, "mode": "reference"})";
+  const Scenario scenario = load_scenario(file);
+  const Scene scene = build_scene(scenario);
+  const std::uint64_t need = estimated_gpu_bytes(scenario, scene);
+  EXPECT_GT(need, 64ull << 30 >> 2);  // 8192² pixels at ~1 KiB each: ~64 GiB
+  try {
+    check_resource_limits(scenario, scene, need - 1);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/resolution");
+    EXPECT_NE(std::string(e.what()).find("huge.json"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("MiB"), std::string::npos);
+  }
+  EXPECT_NO_THROW(check_resource_limits(scenario, scene, need));
+}
+
+TEST(BadInput, TooManyLightTriangles) {
+  test::TempDir dir("many-lights");
+  const auto file = dir.path() / "lights.json";
+  std::ofstream(file) << R"({"name": "lights", "scene": {"generator": "cornell_box"}, "resolution": [8, 8],
+                             "frames": 1, "mode": "reference"})";
+  const Scenario scenario = load_scenario(file);
+  Scene scene = build_scene(scenario);
+  Mesh& light = scene.meshes[scene.instances[*scene.find_instance("light")].mesh];
+  light.indices.resize((kMaxLights + 1) * 3, 0);  // counted, never rendered
+  try {
+    check_resource_limits(scenario, scene, 0);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/scene");
+    EXPECT_NE(std::string(e.what()).find("light"), std::string::npos);
+  }
 }
 
 }  // namespace
