@@ -1,3 +1,4 @@
+#include "core/reference/embree_geometry.h"
 #include "core/bvh/embree_ray_caster.h"
 
 #include <algorithm>
@@ -33,29 +34,8 @@ EmbreeRayCaster::EmbreeRayCaster(const FlatGeometry& g, const FlatInstances& f, 
     if (i < visible.size() && !visible[i]) continue;
     const GpuInstance& inst = f.instances[i];
     if (inst.triangle_count == 0) continue;
-    const std::uint32_t* idx = g.indices.data() + inst.first_index;
-    std::uint32_t vertex_count = 0;
-    for (std::uint32_t k = 0; k < 3 * inst.triangle_count; ++k) vertex_count = std::max(vertex_count, idx[k] + 1);
-    RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), vertex_count));
-    auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-                                                                   inst.triangle_count));
-    if (!vb || !ib) {
-      rtcReleaseGeometry(geom);
+    if (!attach_instance_geometry(impl_->device, impl_->scene, g, inst, i))
       throw DeviceError("Embree: cannot allocate geometry buffers");
-    }
-    for (std::uint32_t v = 0; v < vertex_count; ++v) {
-      const glm::vec3 p = glm::vec3(inst.object_to_world * g.vertices[inst.first_vertex + v].position);
-      vb[3 * v + 0] = p.x;
-      vb[3 * v + 1] = p.y;
-      vb[3 * v + 2] = p.z;
-    }
-    std::copy(idx, idx + 3 * inst.triangle_count, ib);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(impl_->scene, geom, i);
-    rtcReleaseGeometry(geom);
   }
   rtcCommitScene(impl_->scene);
 }

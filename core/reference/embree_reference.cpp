@@ -1,3 +1,4 @@
+#include "core/reference/embree_geometry.h"
 #include "core/reference/embree_reference.h"
 
 #include <algorithm>
@@ -127,30 +128,8 @@ class EmbreeScene {
       if (i >= visible.size() || !visible[i]) continue;
       const shader::GpuInstance& inst = f.instances[i];
       if (inst.triangle_count == 0) continue;
-      const std::uint32_t* idx = g.indices.data() + inst.first_index;
-      std::uint32_t vertex_count = 0;
-      for (std::uint32_t k = 0; k < 3 * inst.triangle_count; ++k) vertex_count = std::max(vertex_count, idx[k] + 1);
-      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                             3 * sizeof(float), vertex_count));
-      auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                     3 * sizeof(std::uint32_t), inst.triangle_count));
-      if (!vb || !ib) {
-        rtcReleaseGeometry(geom);
+      if (!attach_instance_geometry(device_, scene_, g, inst, i))  // geomID == instance index
         throw DeviceError("Embree: cannot allocate buffers: " + error_.message);
-      }
-      for (std::uint32_t v = 0; v < vertex_count; ++v) {
-        // Exactly the float maths of surface_at() in core/shared/scene_access.h,
-        // so Embree's hit points and the shader's reconstruction agree.
-        const glm::vec3 p = glm::vec3(inst.object_to_world * g.vertices[inst.first_vertex + v].position);
-        vb[3 * v + 0] = p.x;
-        vb[3 * v + 1] = p.y;
-        vb[3 * v + 2] = p.z;
-      }
-      std::copy(idx, idx + 3 * inst.triangle_count, ib);
-      rtcCommitGeometry(geom);
-      rtcAttachGeometryByID(scene_, geom, i);  // geomID == instance index
-      rtcReleaseGeometry(geom);
     }
     // A single-threaded build: the BVH (and so every tie between equal-t hits)
     // cannot depend on the thread count.

@@ -74,6 +74,7 @@ std::string compute_version() {
   if (ec || files.empty()) return {};
   std::sort(files.begin(), files.end());
   files.push_back(root / "core" / "reference" / "embree_reference.cpp");
+  files.push_back(root / "core" / "reference" / "embree_geometry.cpp");
   Hasher h;
   for (const fs::path& f : files) {
     std::string text;
