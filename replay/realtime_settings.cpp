@@ -20,7 +20,28 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
   s.balance_mis = p.text("restir_di.mis") == "balance";
   s.visibility_final = p.text("restir_di.visibility") == "final";
+  s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
   s.chains = chains;
+  return s;
+}
+
+gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
+  gpu::WorldCacheSettings s;
+  s.cells = static_cast<std::uint32_t>(p.integer("world_cache.cells"));
+  s.lifetime = static_cast<std::uint32_t>(p.integer("world_cache.lifetime"));
+  s.max_probe_steps = static_cast<std::uint32_t>(p.integer("world_cache.max_probe_steps"));
+  s.linear_probing = p.text("world_cache.probing") == "linear";
+  s.cell_size_base = static_cast<float>(p.number("world_cache.cell_size_base"));
+  s.lod_scale = static_cast<float>(p.number("world_cache.lod_scale"));
+  s.cache_to_cache_full = p.text("world_cache.cache_to_cache_life") == "full";
+  s.adaptive_blend = p.text("world_cache.blend") == "adaptive";
+  s.max_samples = static_cast<float>(p.number("world_cache.max_samples"));
+  s.adaptive_exponent = static_cast<float>(p.number("world_cache.adaptive_exponent"));
+  s.delta_blend = static_cast<float>(p.number("world_cache.delta_blend"));
+  s.di_samples = static_cast<std::uint32_t>(p.integer("world_cache.di_samples"));
+  s.gi_ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
+  s.light_exposure = static_cast<float>(p.number("light_tiles.exposure"));
+  s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
   return s;
 }
 

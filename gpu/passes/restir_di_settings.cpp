@@ -20,7 +20,8 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_PLANE_TOLERANCE", f(plane_tolerance)},
           {"DI_NORMAL_MIN_DOT", f(normal_min_dot)},
           {"DI_BALANCE_MIS", balance_mis ? "1" : "0"},
-          {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"}};
+          {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
+          {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"}};
 }
 
 }  // namespace gi::gpu

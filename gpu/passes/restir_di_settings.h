@@ -24,6 +24,10 @@ struct DiSettings {
   float normal_min_dot = 0.906f;
   bool balance_mis = true;                // false: constant MIS (0.17)
   bool visibility_final = true;           // false: spatial ray fed forward (0.17)
+  // true: the initial winner's shadow ray zeroes its W and that W is stored
+  // and reused (0.17 and 0.18 as released); false: the ray is not traced and
+  // only the final shading ray tests visibility (README, "DI bias").
+  bool initial_visibility_fed_forward = true;
   std::uint32_t chains = 1;               // independent DI chains (2: an honest noise estimate)
 
   std::vector<ShaderDefine> defines() const;

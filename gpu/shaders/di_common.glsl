@@ -5,7 +5,8 @@
 // Defines: LIGHT_TILE_* (light_tiles.comp), DI_INITIAL_SAMPLES,
 // DI_CONFIDENCE_CAP, DI_SPATIAL_RADIUS, DI_SPATIAL_TRIES, DI_PLANE_TOLERANCE,
 // DI_NORMAL_MIN_DOT, DI_BALANCE_MIS (1: balance heuristic, 0: constant),
-// DI_VISIBILITY_FINAL (1: 0.18 order, 0: 0.17 spatial ray fed forward).
+// DI_VISIBILITY_FINAL (1: 0.18 order, 0: 0.17 spatial ray fed forward),
+// DI_INITIAL_VISIBILITY (1: the initial winner's shadow ray zeroes its stored W).
 #include "core/shared/light_tiles.h"
 #include "core/shared/reservoir.h"
 #include "core/shared/restir_di.h"

@@ -51,8 +51,15 @@ void main() {
   if (selected != 0xFFFFFFFFu) {
     canonical.light = tile_samples[selected];
     canonical.unbiased_contribution_weight = ris_contribution_weight(ris);
+#if DI_INITIAL_VISIBILITY != 0
+    // Solari's step 2: an occluded winner keeps its sample but gets W = 0, and
+    // that W is stored and reused. A neighbour that sees the light is then
+    // never given the sample, while the balance heuristic still counts this
+    // pixel's share of it: direct light comes out dark near every shadow edge
+    // (README, "DI bias"). DI_INITIAL_VISIBILITY 0 leaves the test to shading.
     ResolvedLightSample r = unpack_light_sample(tile_packed[selected], LIGHT_TILE_EXPOSURE, LIGHT_TILE_LOG2_RADIANCE != 0);
     if (!light_sample_visible(d.position, d.ng, r)) canonical.unbiased_contribution_weight = 0.0;
+#endif
   }
 
   // Temporal reuse.
