@@ -1,6 +1,6 @@
 // giharness clusters MESH_OR_SCENARIO [--json] (DESIGN §8, §11): builds the
 // cluster DAG of every mesh and prints its per-level table (clusters,
-// triangles, fill, stuck), the levels against the ideal ceil(log2(lod0)) + 1,
+// triangles, fill, stuck, locked), the levels against the ideal ceil(log2(lod0)) + 1,
 // the build time and the process's peak memory.
 //
 // MESH_OR_SCENARIO: a scenario file (*.json: every mesh of its scene after its
@@ -90,15 +90,17 @@ int run_clusters_command(const ClustersCommandOptions& options) {
     j["peak_rss_mib"] = peak_rss_mib();
     if (!options.json) {
       std::printf("mesh %s: %zu triangles, %u LOD-0 clusters, %zu clusters in %u levels (ideal %u), "
-                  "%u stuck (%.3f%%), built in %.2f s, peak RSS %.0f MiB\n",
+                  "%u stuck (%.3f%%), built in %.2f s, peak RSS %.0f MiB, DAG hash %016llx\n",
                   mesh.name.c_str(), mesh.triangle_count(), dag.lod0_clusters, dag.clusters.size(), dag.levels,
                   dag.ideal_levels(), dag.stuck_clusters(),
                   dag.clusters.empty() ? 0.0 : 100.0 * dag.stuck_clusters() / double(dag.clusters.size()),
-                  dag.build_seconds, peak_rss_mib());
-      std::printf("  level  clusters  triangles   fill  stuck\n");
+                  dag.build_seconds, peak_rss_mib(), static_cast<unsigned long long>(dag.content_hash()));
+      // locked: share of vertices held on group borders while simplifying into
+      // this level; when it nears 1 the groups stop halving (cluster_dag.h).
+      std::printf("  level  clusters  triangles   fill  stuck  locked\n");
       for (const ClusterLevelStats& l : dag.level_stats())
-        std::printf("  %5u  %8u  %9llu  %5.3f  %5u\n", l.level, l.clusters,
-                    static_cast<unsigned long long>(l.triangles), l.fill, l.stuck);
+        std::printf("  %5u  %8u  %9llu  %5.3f  %5u  %6.3f\n", l.level, l.clusters,
+                    static_cast<unsigned long long>(l.triangles), l.fill, l.stuck, l.locked);
     }
     out.push_back(j);
   }

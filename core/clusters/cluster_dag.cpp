@@ -5,11 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <meshoptimizer.h>
 #include <metis.h>
 #include <tbb/parallel_for.h>
+#include <xxhash.h>
 
 namespace gi {
 namespace {
@@ -102,7 +104,7 @@ std::vector<std::vector<std::uint32_t>> group_clusters(const ClusterDag& dag, co
   } else {
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
-    options[METIS_OPTION_UFACTOR] = 1;   // as balanced as METIS allows (Bevy 0.16)
+    options[METIS_OPTION_UFACTOR] = static_cast<idx_t>(o.group_ufactor);  // not 1: cluster_dag.h says why
     options[METIS_OPTION_SEED] = 42;     // deterministic (Bevy 0.15)
     options[METIS_OPTION_NUMBERING] = 0;
     idx_t nv = static_cast<idx_t>(n), ncon = 1, np = static_cast<idx_t>(parts), cut = 0;
@@ -123,10 +125,41 @@ struct GroupResult {
   std::vector<std::vector<std::uint32_t>> clusters;
   std::vector<Sphere> bounds;
   float error = 0.0f;  // this simplification's object-space error
+  std::uint32_t vertices = 0, locked_vertices = 0;
 };
 
+// Distinct vertices of a triangle list and how many lie on its topological
+// border (an edge used once): what meshopt_SimplifyLockBorder locks. Counted on
+// position-welded ids, as meshoptimizer treats attribute seams as interior.
+std::pair<std::uint32_t, std::uint32_t> vertex_and_border_counts(const std::vector<std::uint32_t>& welded) {
+  std::vector<std::uint64_t> edges;
+  edges.reserve(welded.size());
+  for (std::size_t t = 0; t < welded.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = welded[t + k], b = welded[t + (k + 1) % 3];
+      if (a != b) edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint32_t> border;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) {
+      border.push_back(static_cast<std::uint32_t>(edges[i] >> 32));
+      border.push_back(static_cast<std::uint32_t>(edges[i] & 0xFFFFFFFFu));
+    }
+    i = j;
+  }
+  std::vector<std::uint32_t> all = welded;
+  for (std::vector<std::uint32_t>* v : {&all, &border}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  }
+  return {static_cast<std::uint32_t>(all.size()), static_cast<std::uint32_t>(border.size())};
+}
+
 GroupResult simplify_group(const ClusterDag& dag, const std::vector<std::uint32_t>& members, const Mesh& mesh,
-                           const ClusterDagOptions& o) {
+                           const std::vector<std::uint32_t>& weld, const ClusterDagOptions& o) {
   std::vector<std::uint32_t> merged;
   for (std::uint32_t c : members) {
     const DagCluster& cl = dag.clusters[c];
@@ -150,6 +183,9 @@ GroupResult simplify_group(const ClusterDag& dag, const std::vector<std::uint32_
       meshopt_simplify(simplified.data(), local.data(), local.size(), floats(local_positions), local_positions.size(),
                        kStride, target, 1.0f, meshopt_SimplifyLockBorder, &relative_error);
   GroupResult r;
+  std::vector<std::uint32_t> welded(merged.size());
+  for (std::size_t i = 0; i < merged.size(); ++i) welded[i] = weld[merged[i]];
+  std::tie(r.vertices, r.locked_vertices) = vertex_and_border_counts(welded);
   if (count == 0 || static_cast<float>(count) > o.max_simplified_ratio * static_cast<float>(merged.size())) return r;
   simplified.resize(count);
   r.simplified = true;
@@ -221,7 +257,7 @@ ClusterDag build_cluster_dag(const Mesh& mesh, const ClusterDagOptions& o) {
       for (std::uint32_t q : parts[g]) members[g].push_back(queue[q]);
     std::vector<GroupResult> results(parts.size());
     tbb::parallel_for(std::size_t(0), parts.size(),
-                      [&](std::size_t g) { results[g] = simplify_group(dag, members[g], mesh, o); });
+                      [&](std::size_t g) { results[g] = simplify_group(dag, members[g], mesh, weld, o); });
 
     std::vector<std::uint32_t> next;
     bool any = false;
@@ -241,6 +277,8 @@ ClusterDag build_cluster_dag(const Mesh& mesh, const ClusterDagOptions& o) {
         group.lod_bounds = enclose(group.lod_bounds, dag.clusters[c].lod_bounds);
       }
       group.error = child_error + results[g].error;
+      group.vertices = results[g].vertices;
+      group.locked_vertices = results[g].locked_vertices;
       const std::int32_t gi = static_cast<std::int32_t>(dag.groups.size());
       for (std::uint32_t c : members[g]) dag.clusters[c].parent_group = gi;
       for (std::size_t k = 0; k < results[g].clusters.size(); ++k) {
@@ -273,6 +311,13 @@ std::vector<ClusterLevelStats> ClusterDag::level_stats() const {
     x.triangles += c.triangle_count;
     if (c.parent_group < 0 && c.level + 1 < levels) ++x.stuck;
   }
+  std::vector<std::uint64_t> vertices(levels, 0), locked(levels, 0);
+  for (const DagGroup& g : groups) {
+    vertices[g.level] += g.vertices;
+    locked[g.level] += g.locked_vertices;
+  }
+  for (std::uint32_t l = 0; l < levels; ++l)
+    s[l].locked = vertices[l] ? double(locked[l]) / double(vertices[l]) : 0.0;
   for (ClusterLevelStats& x : s)
     x.fill = x.clusters ? static_cast<double>(x.triangles) / (double(x.clusters) * options.max_triangles) : 0.0;
   return s;
@@ -284,6 +329,29 @@ std::uint32_t ClusterDag::stuck_clusters() const {
   return n;
 }
 
+std::uint64_t ClusterDag::content_hash() const {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  auto add = [&](const void* p, std::size_t n) { XXH3_64bits_update(state, p, n); };
+  add(indices.data(), indices.size() * sizeof(std::uint32_t));
+  for (const DagCluster& c : clusters) {  // field by field: no padding bytes hashed
+    for (std::uint32_t v : {c.first_index, c.triangle_count, c.level}) add(&v, sizeof v);
+    for (std::int32_t v : {c.group, c.parent_group}) add(&v, sizeof v);
+    for (const Sphere* sp : {&c.bounds, &c.lod_bounds}) {
+      add(&sp->center.x, 3 * sizeof(float));
+      add(&sp->radius, sizeof(float));
+    }
+    add(&c.error, sizeof c.error);
+  }
+  for (const DagGroup& g : groups) {
+    add(g.children.data(), g.children.size() * sizeof(std::uint32_t));
+    add(&g.error, sizeof g.error);
+  }
+  const std::uint64_t h = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  return h;
+}
+
 nlohmann::json ClusterDag::to_json() const {
   nlohmann::json levels_json = nlohmann::json::array();
   for (const ClusterLevelStats& x : level_stats())
@@ -291,6 +359,7 @@ nlohmann::json ClusterDag::to_json() const {
                            {"clusters", x.clusters},
                            {"triangles", x.triangles},
                            {"fill", x.fill},
+                           {"locked", x.locked},
                            {"stuck", x.stuck}});
   const std::uint32_t stuck = stuck_clusters();
   return {{"lod0_clusters", lod0_clusters},
@@ -301,6 +370,8 @@ nlohmann::json ClusterDag::to_json() const {
           {"stuck", stuck},
           {"stuck_fraction", clusters.empty() ? 0.0 : double(stuck) / double(clusters.size())},
           {"max_triangles", options.max_triangles},
+          {"group_ufactor", options.group_ufactor},
+          {"hash", fmt::format("{:016x}", content_hash())},
           {"build_seconds", build_seconds},
           {"per_level", levels_json}};
 }
