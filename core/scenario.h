@@ -110,6 +110,9 @@ struct Scenario {
   std::string profile = "solari-0.18";
   nlohmann::json overrides = nlohmann::json::object();  // validated later against the profile
   RenderMode mode = RenderMode::Realtime;
+  // Realtime: add ReSTIR GI and specular GI to DI (the output and the reference
+  // check become full GI). Off by default: DI alone.
+  bool gi = false;
   std::uint32_t samples_per_frame = 1;
   std::optional<CameraSpec> camera;
   std::vector<Event> events;    // in file order

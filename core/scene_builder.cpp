@@ -8,7 +8,9 @@
 #include "core/gltf_import.h"
 #include "core/scenes/cliff.h"
 #include "core/scenes/cornell_box.h"
+#include "core/scenes/cache_scenes.h"
 #include "core/scenes/di_scenes.h"
+#include "core/scenes/gi_scenes.h"
 
 namespace gi {
 
@@ -89,7 +91,13 @@ Scene build_generator(const Scenario& s) {
   // The DI scenes (core/scenes/di_scenes.h) take no parameters.
   for (const auto& [name, make] : {std::pair{"di_many_lights", &make_di_many_lights},
                                    std::pair{"di_occluder", &make_di_occluder},
-                                   std::pair{"di_packing_range", &make_di_packing_range}}) {
+                                   std::pair{"di_packing_range", &make_di_packing_range},
+                                   std::pair{"cache_closed_room", &make_cache_closed_room},
+                                   std::pair{"cache_room_and_yard", &make_cache_room_and_yard},
+                                   std::pair{"cache_open_field", &make_cache_open_field},
+                                   std::pair{"gi_corners", &make_gi_corners},
+                                   std::pair{"gi_mirror", &make_gi_mirror},
+                                   std::pair{"gi_hard_cases", &make_gi_hard_cases}}) {
     if (s.scene.generator != name) continue;
     if (!params.empty())
       throw InputError(file_of(s), "/scene/params/" + json_pointer_token(params.begin().key()),
@@ -98,7 +106,8 @@ Scene build_generator(const Scenario& s) {
   }
   throw InputError(file_of(s), "/scene/generator",
                    fmt::format("expected a scene generator (one of: cornell_box, cliff, di_many_lights, di_occluder, "
-                               "di_packing_range), got \"{}\"", s.scene.generator));
+                               "di_packing_range, cache_closed_room, cache_room_and_yard, cache_open_field, gi_corners, gi_mirror, "
+                               "gi_hard_cases), got \"{}\"", s.scene.generator));
 }
 
 }  // namespace

@@ -189,6 +189,14 @@ void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t 
   vkCmdDispatch(cmd, gx, gy, gz);
 }
 
+void ComputePass::dispatch_indirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset,
+                                    const void* push) const {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+  if (push_bytes_ && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
+  vkCmdDispatchIndirect(cmd, args.handle(), offset);
+}
+
 void compute_barrier(VkCommandBuffer cmd) {
   VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;

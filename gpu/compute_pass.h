@@ -60,6 +60,10 @@ class ComputePass {
   // Binds pipeline and set, pushes `push` (push_constant_bytes of it), dispatches.
   void dispatch(VkCommandBuffer cmd, std::uint32_t groups_x, std::uint32_t groups_y, std::uint32_t groups_z = 1,
                 const void* push = nullptr) const;
+  // The same with the group counts read on the device from `args` at `offset`
+  // (a VkDispatchIndirectCommand; `args` needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
+  void dispatch_indirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset,
+                         const void* push = nullptr) const;
 
  private:
   void destroy() noexcept;

@@ -69,6 +69,14 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     if (!options_.gbuffer) throw DeviceError("Renderer: realtime DI needs the G-buffer (RendererOptions::gbuffer)");
     di_.emplace(device, compiler, *options_.di, options.width, options.height);
   }
+  if (options_.world_cache) {
+    if (!options_.gbuffer) throw DeviceError("Renderer: the world cache needs the G-buffer (RendererOptions::gbuffer)");
+    world_cache_.emplace(device, compiler, *options_.world_cache, options.width, options.height);
+  }
+  if (options_.gi) {
+    if (!options_.di) throw DeviceError("Renderer: GI needs realtime DI (RendererOptions::di)");
+    gi_.emplace(device, compiler, *options_.gi, options.width, options.height);
+  }
 }
 
 Renderer::~Renderer() { vkDeviceWaitIdle(device_.handle()); }
@@ -111,6 +119,8 @@ void Renderer::bind_passes() {
   if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_);
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
   if (di_) di_->bind(scene, gbuffer_);
+  if (world_cache_) world_cache_->bind(scene, gbuffer_);
+  if (gi_) gi_->bind(scene, gbuffer_);
   bindings_dirty_ = false;
 }
 
@@ -135,6 +145,8 @@ void Renderer::render_frame(const FrameConstants& frame) {
     if (gbuffer_resolve_) run("gbuffer_resolve", *gbuffer_resolve_);
     if (reference_path_trace_) run("reference_path_trace", *reference_path_trace_);
     if (di_) di_->record(cmd, timer_, /*accumulate=*/true);
+    if (world_cache_) world_cache_->record(cmd, timer_);
+    if (gi_) gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
   });
   timer_.resolve();
 }
@@ -148,8 +160,19 @@ const DiPipeline& Renderer::di() const {
   return *di_;
 }
 
+const GiPipeline& Renderer::gi() const {
+  require(gi_.has_value(), "ReSTIR GI (RendererOptions::gi)");
+  return *gi_;
+}
+
+const WorldCache& Renderer::world_cache() const {
+  require(world_cache_.has_value(), "the world cache (RendererOptions::world_cache)");
+  return *world_cache_;
+}
+
 void Renderer::reset_accumulation() {
   if (di_) di_->reset_accumulation();
+  if (gi_) gi_->reset_accumulation();
   if (!options_.reference) return;
   reference_a_.fill_zero();
   reference_b_.fill_zero();
@@ -241,6 +264,34 @@ void Renderer::set_cluster_ids(std::vector<MeshClusterIds> meshes, const Cluster
                                   mesh_ranges_.size()));
   mesh_clusters_ = std::move(meshes);
   cluster_layout_ = layout;
+}
+
+void Renderer::list_state(StateList& out) {
+  const std::uint64_t h = options_.height, w = options_.width;
+  if (options_.gbuffer) {
+    out.push_back({"gbuffer/visibility", &visibility_, "<u4", {h, w, 2}, "packed cluster id, instance channel"});
+    out.push_back({"gbuffer/depth", &depth_, "<f4", {h, w}, "hit t, 0 = miss"});
+    out.push_back({"gbuffer/texels", &gbuffer_, "<f4", {h, w, sizeof(GBufferTexel) / 4},
+                   "GBufferTexel (gpu/shaders/gbuffer.h)"});
+  }
+  if (options_.reference) {
+    out.push_back({"reference/half_a", &reference_a_, "<f4", {h, w, 4}, "rgb sum, w samples"});
+    out.push_back({"reference/half_b", &reference_b_, "<f4", {h, w, 4}, "rgb sum, w samples"});
+    out.push_back({"reference/nonfinite", &nonfinite_, "<u4", {1}, ""});
+  }
+  if (di_) di_->list_state(out);
+  if (world_cache_) world_cache_->list_state(out);
+  if (gi_) gi_->list_state(out);
+}
+
+void Renderer::save_host_state(HostState& out) const {
+  if (di_) di_->save_host_state(out);
+  if (gi_) gi_->save_host_state(out);
+}
+
+void Renderer::restore_host_state(const HostState& in) {
+  if (di_) di_->restore_host_state(in);
+  if (gi_) gi_->restore_host_state(in);
 }
 
 std::vector<float> Renderer::depth() const {

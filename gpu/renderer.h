@@ -22,8 +22,11 @@
 #include "gpu/bvh_buffers.h"
 #include "gpu/passes/di_pipeline.h"
 #include "gpu/passes/gbuffer_resolve.h"
+#include "gpu/passes/gi_pipeline.h"
 #include "gpu/passes/primary_visibility.h"
 #include "gpu/passes/reference_path_trace.h"
+#include "gpu/passes/world_cache.h"
+#include "gpu/state_buffers.h"
 #include "gpu/timer.h"
 
 namespace gi::gpu {
@@ -36,6 +39,8 @@ struct RendererOptions {
   bool gbuffer = true;    // primary visibility + G-buffer resolve
   bool reference = true;  // GPU reference path tracer (accumulating)
   std::optional<DiSettings> di;  // realtime mode: light tiles + ReSTIR DI (needs gbuffer)
+  std::optional<WorldCacheSettings> world_cache;  // the world cache and its cache view (needs gbuffer)
+  std::optional<GiSettings> gi;  // ReSTIR GI + specular GI (needs di: the output is DI + GI + specular)
 };
 
 class Renderer {
@@ -56,6 +61,13 @@ class Renderer {
   void reset_accumulation();
   // Realtime DI (RendererOptions::di): DiPipeline::frame/mean per chain.
   const DiPipeline& di() const;
+  // The world cache (RendererOptions::world_cache); cache_view() is its
+  // irradiance at each pixel's primary surface.
+  const WorldCache& world_cache() const;
+  // ReSTIR GI and specular GI (RendererOptions::gi).
+  const GiPipeline& gi() const;
+  bool has_gi() const { return gi_.has_value(); }
+  Image cache_view() const { return world_cache().view(); }
 
   Image reference_mean() const;             // (A + B) / (nA + nB)
   Image reference_half(int which) const;    // 0 = A (even sample indices), 1 = B (odd), each its own mean
@@ -87,6 +99,15 @@ class Renderer {
   std::uint32_t tlas_builds() const { return as_ ? as_->tlas_builds() : bvh_->tlas_builds(); }
   const RendererOptions& options() const { return options_; }
 
+  // Captures, replay and the determinism check (gpu/state_buffers.h): every
+  // buffer the enabled passes write or carry to the next frame, in a fixed
+  // order (the determinism check names the first that differs), and the
+  // passes' host-side state. Restore after update_scene() of the captured
+  // frame's scene.
+  void list_state(StateList& out);
+  void save_host_state(HostState& out) const;
+  void restore_host_state(const HostState& in);
+
  private:
   void ensure_buffer(Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* name);
   void bind_passes();
@@ -105,6 +126,8 @@ class Renderer {
   std::optional<GBufferResolve> gbuffer_resolve_;
   std::optional<ReferencePathTrace> reference_path_trace_;
   std::optional<DiPipeline> di_;
+  std::optional<WorldCache> world_cache_;
+  std::optional<GiPipeline> gi_;
   GpuTimer timer_;
   // Packed visibility IDs: per-mesh clusters, the table the passes read.
   std::vector<MeshRange> mesh_ranges_;

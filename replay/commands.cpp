@@ -38,7 +38,7 @@ void Commands::add_to(CLI::App& app) {
   run_->add_option("--device", run_options_.device, "Vulkan device index (see 'giharness devices')");
   run_->add_option("--backend", run_options_.backend, "tracing backend")
       ->check(CLI::IsMember({"auto", "rayquery", "bvh"}));
-  run_->add_option("--capture", capture_list_, "frames to capture as EXR, e.g. 10,63");
+  run_->add_option("--capture", capture_list_, "frames to capture (EXR, .npy, manifest), e.g. 10,63");
   run_->add_option("--out", run_options_.out_dir, "output directory")->capture_default_str();
   run_->add_option("--profile", run_options_.profile, "profile name (scenarios/profiles) or file, instead of the scenario's");
   run_->add_option("--set", run_options_.sets, "override one profile value, key=value (repeatable)");
@@ -80,6 +80,13 @@ void Commands::add_to(CLI::App& app) {
   sweep_->add_option("--device", sweep_options_.device, "Vulkan device index");
   sweep_->add_option("--reference-spp", sweep_options_.reference_spp, "spp of the converged Embree reference");
 
+  replay_ = app.add_subcommand("replay", "resume a capture bit for bit and continue the run");
+  replay_->add_option("capture", replay_options_.capture, "capture folder (out/captures/frame_NNNNN)")->required();
+  replay_->add_option("--frames", replay_options_.frames, "run up to frame N-1 (default: the capturing run's count)");
+  replay_->add_flag("--verify", replay_options_.verify, "compare each frame's buffer hashes with the capturing run's");
+  replay_->add_option("--out", replay_options_.out_dir, "output directory")->capture_default_str();
+  replay_->add_option("--device", replay_options_.device, "Vulkan device index (default: the capturing run's)");
+
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
 
   bench_ = add_bench_subcommand(app, bench_options_);  // replay/bench.cpp
@@ -100,6 +107,7 @@ int Commands::execute() {
     return run_scenario(scenario, run_options_).exit_code;
   }
   if (reference_->parsed()) return run_reference_command(reference_options_);
+  if (replay_->parsed()) return run_replay_command(replay_options_);
   if (nightly_->parsed()) return run_nightly(nightly_options_);
   if (devices_->parsed()) return list_devices_command();
   if (baseline_update_->parsed()) return run_baseline_update(baseline_options_);

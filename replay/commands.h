@@ -52,6 +52,15 @@ struct SweepOptions {
   std::optional<std::uint32_t> reference_spp;  // converged reference (default: the reference check's, else 1024)
 };
 
+struct ReplayOptions {
+  std::filesystem::path capture;          // a capture folder (manifest.json)
+  std::optional<std::uint32_t> frames;    // run up to frame N − 1 (default: the capturing run's frame count)
+  bool verify = false;                    // compare every frame's buffer hashes with the capturing run's
+  std::filesystem::path out_dir = "out/replay";
+  std::optional<int> device;              // default: the capturing run's
+};
+
+int run_replay_command(const ReplayOptions& options);           // replay/replay_command.cpp
 int run_baseline_update(const BaselineUpdateOptions& options);  // replay/nightly.cpp
 int run_merge(const MergeOptions& options);                     // replay/merge.cpp
 int run_sweep(const SweepOptions& options);                     // replay/sweep.cpp
@@ -83,6 +92,8 @@ class Commands {
   CLI::App* sweep_ = nullptr;
   CLI::App* clusters_ = nullptr;
   CLI::App* bench_ = nullptr;
+  CLI::App* replay_ = nullptr;
+  ReplayOptions replay_options_;
   std::filesystem::path scenario_path_;
   RunOptions run_options_;
   std::string capture_list_;

@@ -88,6 +88,7 @@ ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions&
     ro.device = o.device;
     ro.out_dir = o.out_dir / scenario.name;
     ro.quiet = true;
+    ro.capture_failures = true;  // a failing check leaves a capture of its first failing frame
     const RunResult r = run_scenario(scenario, ro);
     code = r.exit_code;
     outcome.summary = r.summary;
@@ -100,6 +101,12 @@ ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions&
                                {"limits", c.limits},
                                {"first_failing_frame", c.first_failing_frame ? nlohmann::json(*c.first_failing_frame)
                                                                              : nlohmann::json(nullptr)}});
+    // Where to start debugging: `giharness replay <out>/<capture>` (paths relative to the suite's out).
+    row["failure_captures"] = nlohmann::json::array();
+    for (const nlohmann::json& f : r.summary.value("failure_captures", nlohmann::json::array()))
+      row["failure_captures"].push_back(
+          {{"check", f["check"]}, {"frame", f["frame"]},
+           {"capture", (std::filesystem::path(scenario.name) / f["capture"].get<std::string>()).string()}});
   } catch (const InputError& e) {
     code = 2;
     row["error"] = e.what();

@@ -45,4 +45,26 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   return s;
 }
 
+gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains) {
+  gpu::GiSettings s;
+  s.confidence_cap = static_cast<float>(p.number("restir_gi.confidence_cap"));
+  s.spatial_radius = static_cast<float>(p.number("restir_gi.spatial_radius_px"));
+  s.spatial_tries = static_cast<std::uint32_t>(p.integer("restir_di.spatial_tries"));
+  s.plane_tolerance = static_cast<float>(p.number("restir_di.dissimilar_plane_tolerance"));
+  s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
+  s.jacobian_reject = static_cast<float>(p.number("restir_gi.jacobian_reject"));
+  s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
+  s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
+  s.consistent_mis = p.text("restir_gi.mis_weights") == "consistent";
+  s.hit_radiance = p.text("restir_gi.hit_radiance") == "nee" ? gpu::GiSettings::HitRadiance::nee
+                                                             : gpu::GiSettings::HitRadiance::path;
+  s.ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
+  s.specular = p.flag("specular.enabled");
+  s.specular_reuse_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
+  s.specular_max_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
+  s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
+  s.chains = chains;
+  return s;
+}
+
 }  // namespace gi

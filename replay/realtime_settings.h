@@ -5,11 +5,22 @@
 #include "core/profile.h"
 #include "core/scene_flatten.h"
 #include "gpu/passes/restir_di_settings.h"
+#include "gpu/passes/restir_gi_settings.h"
+#include "gpu/passes/world_cache.h"
 
 namespace gi {
 
 // `chains` independent DI chains (2 when a reference check needs an honest
 // noise estimate, replay/checks/realtime_reference_check.h).
 gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInstances& scene, std::uint32_t chains);
+
+// The world cache's constants (world_cache.*, and light_tiles.* for the radiance
+// encoding its direct samples see); the instrumentation flags are the caller's.
+gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& profile);
+
+// ReSTIR GI and specular GI (restir_gi.*, specular.*, brdf.min_perceptual_roughness;
+// the pixel-similarity constants are restir_di's, the ray length world_cache.gi_ray_tmax),
+// `chains` as for DI.
+gpu::GiSettings gi_settings_from_profile(const Profile& profile, std::uint32_t chains);
 
 }  // namespace gi

@@ -1,5 +1,6 @@
 #include "replay/run_scenario.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <map>
@@ -19,7 +20,13 @@
 #include "gpu/device.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
+#include "replay/capture.h"
+#include "replay/checks/blend_lag_check.h"
+#include "replay/checks/cache_lifetime_check.h"
 #include "replay/checks/cluster_ids_check.h"
+#include "replay/checks/determinism_check.h"
+#include "replay/checks/jacobian_check.h"
+#include "replay/failure_capture.h"
 #include "replay/checks/realtime_reference_check.h"
 #include "replay/checks/reference_check.h"
 #include "replay/realtime_settings.h"
@@ -35,12 +42,19 @@ namespace {
 
 // Checks this build can run; the others are accepted by the scenario format
 // (DESIGN §6) but refused here with a clear message rather than skipped.
-const std::set<std::string> kImplementedChecks = {"reference", "finite", "cluster_ids"};
+const std::set<std::string> kImplementedChecks = {"reference",   "finite",         "cluster_ids",
+                                                   "determinism", "cache_lifetime", "blend_lag", "jacobian"};
 
 std::vector<bool> visibility_of(const Scene& scene) {
   std::vector<bool> v;
   for (const Instance& i : scene.instances) v.push_back(i.visible);
   return v;
+}
+
+Image sum_images(const Image& a, const Image& b) {
+  Image s = a;
+  for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] += b.pixels[i];
+  return s;
 }
 
 std::string image_hash(const Image& image) {
@@ -72,7 +86,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   for (const CheckSpec& c : scenario.checks)
     if (!kImplementedChecks.count(c.name))
       throw InputError(scenario.file.string(), c.json_path + "/name",
-                       fmt::format("a check this build implements (reference, finite, cluster_ids); \"{}\" is not built yet",
+                       fmt::format("a check this build implements (reference, finite, cluster_ids, determinism, cache_lifetime, "
+                                   "blend_lag, jacobian); \"{}\" is not built yet",
                                    c.name));
 
   const Scene initial = build_scene(scenario);
@@ -83,6 +98,13 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   captures.insert(options.capture.begin(), options.capture.end());
   for (std::uint32_t f : captures)
     if (f >= frames) throw InputError(scenario.file.string(), "/capture", fmt::format("frames below {}", frames));
+  std::optional<DeterminismParams> determinism;
+  if (const CheckSpec* spec = scenario.find_check("determinism")) {
+    determinism = determinism_params(*spec, scenario, frames);
+    if (determinism->snapshot_frame) captures.insert(*determinism->snapshot_frame);
+  }
+  // Captures carry the run's hashes (replay --verify), replays record theirs.
+  const bool record_hashes = options.record_hashes || !captures.empty() || determinism || !options.resume_from.empty();
 
   std::optional<ReferenceCheck> reference_check;
   std::optional<RealtimeReferenceCheck> realtime_check;
@@ -111,12 +133,45 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   gpu::RendererOptions renderer_options;
   renderer_options.width = width;
   renderer_options.height = height;
-  renderer_options.gbuffer = !captures.empty() || cluster_ids_check;  // only what this scenario uses
+  // Only what this scenario uses; runs that record hashes (captures, replays,
+  // the determinism check) always list the same buffers, G-buffer included.
+  renderer_options.gbuffer = !captures.empty() || cluster_ids_check || record_hashes;
   renderer_options.reference = !realtime;
   if (realtime) {
     renderer_options.gbuffer = true;
     renderer_options.di =
         di_settings_from_profile(profile, flatten_instances(scene, geometry), realtime_check ? 2u : 1u);
+  }
+  // ReSTIR GI + specular GI ("gi": true): the output becomes DI + GI + specular.
+  const bool gi = realtime && scenario.gi;
+  if (scenario.gi && !realtime)
+    throw InputError(scenario.file.string(), "/gi", "\"gi\": true in \"mode\": \"realtime\" only");
+  std::optional<JacobianCheck> jacobian_check;
+  if (const CheckSpec* spec = scenario.find_check("jacobian")) {
+    if (!gi)
+      throw InputError(scenario.file.string(), spec->json_path + "/name",
+                       "the jacobian check reads ReSTIR GI: a realtime scenario with \"gi\": true");
+    jacobian_check.emplace(jacobian_check_params(*spec, scenario, profile.number("restir_gi.jacobian_reject")));
+  }
+  if (gi) renderer_options.gi = gi_settings_from_profile(profile, realtime_check ? 2u : 1u);
+  // The world cache runs when a check reads it; the root-frame instrumentation
+  // is compiled in only for cache_lifetime.
+  std::optional<CacheLifetimeCheck> cache_lifetime_check;
+  std::optional<BlendLagParams> blend_lag;
+  std::vector<BlendLagSignal> blend_lag_signals = {{"cache_view_luminance", {}}, {"cache_mean_radiance", {}}};
+  for (const char* name : {"cache_lifetime", "blend_lag"})
+    if (const CheckSpec* spec = scenario.find_check(name); spec && !realtime)
+      throw InputError(scenario.file.string(), spec->json_path + "/name",
+                       fmt::format("\"{}\" reads the world cache, which runs in \"mode\": \"realtime\" only", name));
+  if (const CheckSpec* spec = scenario.find_check("cache_lifetime"))
+    cache_lifetime_check.emplace(cache_lifetime_params(
+        *spec, scenario, static_cast<std::uint32_t>(profile.integer("world_cache.lifetime")), frames));
+  if (const CheckSpec* spec = scenario.find_check("blend_lag")) blend_lag = blend_lag_params(*spec, scenario);
+  if (cache_lifetime_check || blend_lag) {
+    gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
+    cache.stats = true;
+    cache.root_frame = cache_lifetime_check.has_value();
+    renderer_options.world_cache = cache;
   }
   auto renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
   if (cluster_ids_check)
@@ -129,11 +184,62 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   std::uint32_t window_start = 0;
   std::optional<std::uint32_t> first_nonfinite_frame;
   std::uint64_t nonfinite_pixels_total = 0;
+  std::uint64_t gi_nonfinite_total = 0;  // non-finite GI reservoirs and GI/specular output values
   nlohmann::json capture_files = nlohmann::json::array();
   GpuCamera previous_camera = make_gpu_camera(scene.camera, width, height);
   Image last_mean;
+  // The realtime output of one chain: DI, plus GI and specular when enabled.
+  auto realtime_frame = [&](std::uint32_t chain) {
+    Image img = renderer->di().frame(chain);
+    if (gi) img = sum_images(sum_images(img, renderer->gi().gi_frame(chain)), renderer->gi().specular_frame(chain));
+    return img;
+  };
+  auto realtime_mean = [&](std::uint32_t chain) {
+    Image img = renderer->di().mean(chain);
+    if (gi) img = sum_images(sum_images(img, renderer->gi().gi_mean(chain)), renderer->gi().specular_mean(chain));
+    return img;
+  };
+  std::optional<FrameLog> hash_log;
+  if (record_hashes) hash_log.emplace(options.out_dir / "buffer_hashes.jsonl");
+  auto state_hashes = [&](std::uint32_t frame) {
+    gpu::StateList state;
+    renderer->list_state(state);
+    return hash_record(frame, state);
+  };
+  std::uint32_t first_frame = 0;
+  if (!options.resume_from.empty()) {
+    // Replay: the scene at the captured frame (events are a pure function of
+    // the frame), the pipeline rebuilt for it, its state and the loop's restored.
+    const Capture capture = read_capture(options.resume_from);
+    const std::string manifest = (capture.dir / "manifest.json").string();
+    if (capture.frame + 1 >= frames)
+      throw InputError(manifest, "/frame", fmt::format("a frame before the run's last ({} frames)", frames));
+    scene = scene_at_frame(initial, scenario, capture.frame);
+    geometry = flatten_geometry(scene);
+    renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
+    if (cluster_ids_check)
+      renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry), cluster_ids_check->params().layout);
+    flat = flatten_instances(scene, geometry);
+    renderer->update_scene(flat, visibility_of(scene));
+    restore_capture(capture, *renderer);
+    const nlohmann::json& loop = capture.manifest["loop"];
+    if (loop.value("scene_hash", "") != scene_hash(flat))
+      spdlog::warn("{}: the scene re-derived at frame {} differs from the captured one (scenario or code changed?)",
+                   manifest, capture.frame);
+    window_start = loop.value("window_start", 0u);
+    window_samples = loop.value("window_samples", std::uint64_t{0});
+    nonfinite_pixels_total = loop.value("nonfinite_pixels_total", std::uint64_t{0});
+    if (loop.contains("first_nonfinite_frame") && loop["first_nonfinite_frame"].is_number_unsigned())
+      first_nonfinite_frame = loop["first_nonfinite_frame"].get<std::uint32_t>();
+    previous_camera = make_gpu_camera(scene.camera, width, height);
+    nlohmann::json restored = state_hashes(capture.frame);
+    restored["restored"] = true;  // the state as restored, before any replayed frame
+    hash_log->add(restored);
+    first_frame = capture.frame + 1;
+  }
+  std::vector<std::uint32_t> captured_frames;
 
-  for (std::uint32_t frame = 0; frame < frames; ++frame) {
+  for (std::uint32_t frame = first_frame; frame < frames; ++frame) {
     const ChangeSet changes = apply_events(scene, initial, scenario, frame);
     if (changes.geometry) {
       geometry = flatten_geometry(scene);
@@ -168,11 +274,15 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
     nlohmann::json timings = nlohmann::json::object();
     for (const auto& t : renderer->last_timings()) timings[t.name] = json_figure(t.ms);
-    last_mean = realtime ? renderer->di().frame(0) : renderer->reference_mean();
+    last_mean = realtime ? realtime_frame(0) : renderer->reference_mean();
     const std::uint64_t nonfinite_samples = realtime ? 0 : renderer->reference_nonfinite_samples();
     const std::uint64_t nonfinite_pixels = count_nonfinite(last_mean);
     nonfinite_pixels_total += nonfinite_pixels;
-    if ((nonfinite_pixels > 0 || nonfinite_samples > 0) && !first_nonfinite_frame)
+    std::optional<gpu::GiFrameStats> gi_stats;
+    if (gi) gi_stats = renderer->gi().stats();
+    const std::uint64_t gi_nonfinite = gi_stats ? gi_stats->nonfinite_reservoirs + gi_stats->nonfinite_output : 0;
+    gi_nonfinite_total += gi_nonfinite;
+    if ((nonfinite_pixels > 0 || nonfinite_samples > 0 || gi_nonfinite > 0) && !first_nonfinite_frame)
       first_nonfinite_frame = frame;
     nlohmann::json record = {{"frame", frame},
                          {"window_start", window_start},
@@ -181,30 +291,79 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                          {"nonfinite_pixels", nonfinite_pixels},
                          {"nonfinite_samples", nonfinite_samples},
                          {"pass_ms", timings}};
+    if (gi_stats)
+      record["gi"] = jacobian_check ? jacobian_check->record_frame(frame, *gi_stats)
+                                    : nlohmann::json{{"merges", gi_stats->merges},
+                                                     {"rejections", gi_stats->rejections},
+                                                     {"max_accepted_j", json_figure(gi_stats->max_accepted_j)},
+                                                     {"nonfinite_reservoirs", gi_stats->nonfinite_reservoirs},
+                                                     {"nonfinite_output", gi_stats->nonfinite_output}};
     if (cluster_ids_check)
       record["cluster_ids"] =
           cluster_ids_check->record_frame(frame, renderer->packed_visibility(), renderer->cluster_table());
+    if (renderer_options.world_cache) {
+      const gpu::WorldCacheFrameStats cache = renderer->world_cache().stats();
+      const double view_luminance = mean_luminance(renderer->cache_view());
+      record["world_cache"] = {{"active_cells", cache.active_cells},
+                               {"live_cells", cache.live_cells},
+                               {"mean_radiance", json_figure(cache.mean_radiance)},
+                               {"view_mean_luminance", json_figure(view_luminance)},
+                               {"oldest_age", cache.oldest_age},
+                               {"over_age_cells", cache.over_age_cells}};
+      if (cache_lifetime_check) cache_lifetime_check->record_frame(frame, cache);
+      blend_lag_signals[0].values.push_back(view_luminance);
+      blend_lag_signals[1].values.push_back(cache.mean_radiance);
+    }
     frame_log.add(record);
+    if (hash_log) hash_log->add(state_hashes(frame));
 
     if (captures.count(frame)) {
       // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
-      const Image a = realtime ? renderer->di().frame(0) : renderer->reference_half(0);
-      const Image b = realtime ? renderer->di().frame(renderer->di().settings().chains - 1)
-                               : renderer->reference_half(1);
+      const Image a = realtime ? realtime_frame(0) : renderer->reference_half(0);
+      const Image b = realtime ? realtime_frame(renderer->di().settings().chains - 1) : renderer->reference_half(1);
       std::vector<Image> layers;
       const std::vector<std::string> names = {"albedo", "normal", "depth", "motion"};
       for (const std::string& n : names) layers.push_back(renderer->gbuffer_layer(n));
       std::vector<std::pair<std::string, const Image*>> exr = {{"", &last_mean}, {"half_a", &a}, {"half_b", &b}};
+      const Image di_layer = realtime ? renderer->di().frame(0) : Image();
+      const Image gi_layer = gi ? renderer->gi().gi_frame(0) : Image();
+      const Image specular_layer = gi ? renderer->gi().specular_frame(0) : Image();
+      if (realtime) exr.emplace_back("di", &di_layer);
+      if (gi) {
+        exr.emplace_back("gi", &gi_layer);
+        exr.emplace_back("specular", &specular_layer);
+      }
       for (std::size_t i = 0; i < names.size(); ++i) exr.emplace_back(names[i], &layers[i]);
-      const std::string file = fmt::format("captures/frame_{:05}.exr", frame);
-      write_exr(options.out_dir / file, exr);
-      write_png_preview(options.out_dir / fmt::format("captures/frame_{:05}.png", frame), last_mean);
-      capture_files.push_back(file);
+      // Everything a replay needs to rebuild this run (replay/capture.h).
+      nlohmann::json manifest = {
+          {"frame", frame},
+          {"frames", frames},
+          {"seed", seed},
+          {"scenario", {{"name", scenario.name}, {"file", scenario.file.string()}, {"document", scenario.raw}}},
+          {"profile", scenario.profile},
+          {"profile_option", options.profile ? nlohmann::json(*options.profile) : nlohmann::json(nullptr)},
+          {"overrides", scenario.overrides},
+          {"sets", options.sets},
+          {"backend_request", options.backend},
+          {"backend", gpu::backend_name(device.backend())},
+          {"device_index", options.device ? nlohmann::json(*options.device) : nlohmann::json(nullptr)},
+          {"device", device.info().to_json()},
+          {"loop",
+           {{"window_start", window_start},
+            {"window_samples", window_samples},
+            {"nonfinite_pixels_total", nonfinite_pixels_total},
+            {"first_nonfinite_frame",
+             first_nonfinite_frame ? nlohmann::json(*first_nonfinite_frame) : nlohmann::json(nullptr)},
+            {"scene_hash", scene_hash(flat)}}}};
+      write_capture(options.out_dir / capture_folder(frame), manifest, *renderer, exr, last_mean);
+      capture_files.push_back(capture_images_file(frame).string());
+      captured_frames.push_back(frame);
     }
     if (realtime_check && realtime_check->wants(frame)) {
       const gpu::DiPipeline& di = renderer->di();
-      RealtimeEstimate estimate{di.frame(0), di.frame(1), di.mean(0), di.mean(1), window_start,
+      RealtimeEstimate estimate{realtime_frame(0), realtime_frame(1), realtime_mean(0), realtime_mean(1), window_start,
                                 di.accumulated_frames(0)};
+      estimate.full_gi = gi;
       realtime_check->compare_frame(frame, scene, estimate);
     }
     if (reference_check && reference_check->wants(frame)) {
@@ -215,15 +374,24 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       spdlog::info("{}: frame {}/{}", scenario.name, frame + 1, frames);
   }
 
+  if (hash_log) {
+    hash_log->finish();
+    for (std::uint32_t f : captured_frames) attach_run_hashes(options.out_dir / capture_folder(f), hash_log->file());
+  }
   RunResult result;
+  if (determinism) result.checks.push_back(run_determinism_check(scenario, options, *determinism));
   if (reference_check) result.checks.push_back(reference_check->result());
   if (realtime_check) result.checks.push_back(realtime_check->result());
   if (cluster_ids_check) result.checks.push_back(cluster_ids_check->result());
+  if (cache_lifetime_check) result.checks.push_back(cache_lifetime_check->result());
+  if (jacobian_check) result.checks.push_back(jacobian_check->result());
+  if (blend_lag) result.checks.push_back(judge_blend_lag(*blend_lag, lighting_event_frames(scenario), blend_lag_signals));
   if (finite_check) {
     CheckResult c;
     c.name = "finite";
     c.figures = {{"nonfinite_samples", realtime ? 0 : renderer->reference_nonfinite_samples()},
                  {"nonfinite_pixels", nonfinite_pixels_total}};
+    if (gi) c.figures["nonfinite_gi_reservoirs_and_output"] = gi_nonfinite_total;
     c.limits = {{"nonfinite", 0}};
     c.first_failing_frame = first_nonfinite_frame;
     c.verdict = first_nonfinite_frame ? Verdict::fail : Verdict::pass;
@@ -231,13 +399,20 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                                       : "no NaN or inf in any sample or output pixel";
     result.checks.push_back(c);
   }
-  bool all_pass = true;
-  nlohmann::json checks = nlohmann::json::array();
-  for (const CheckResult& c : result.checks) {
-    all_pass = all_pass && c.passed();
-    checks.push_back(c.to_json());
-  }
+  const bool all_pass =
+      std::all_of(result.checks.begin(), result.checks.end(), [](const CheckResult& c) { return c.passed(); });
   result.exit_code = all_pass ? 0 : 1;
+  // Before the checks are written: it adds the captures to their evidence.
+  nlohmann::json failure_captures = nlohmann::json::array();
+  if (options.capture_failures && !all_pass && options.resume_from.empty()) {
+    failure_captures = capture_failing_frames(scenario, options, frames, captured_frames, result.checks);
+    for (const nlohmann::json& f : failure_captures)
+      if (std::find(captured_frames.begin(), captured_frames.end(), f["frame"].get<std::uint32_t>()) ==
+          captured_frames.end())
+        capture_files.push_back(capture_images_file(f["frame"].get<std::uint32_t>()).string());
+  }
+  nlohmann::json checks = nlohmann::json::array();
+  for (const CheckResult& c : result.checks) checks.push_back(c.to_json());
 
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   nlohmann::json& s = result.summary;
@@ -274,7 +449,20 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   frame_log.finish();
   s["frames_log"] = {{"file", "frames.jsonl"}, {"records", frame_log.count()}, {"kept_every", frame_log.stride()}};
   s["final_image_hash"] = image_hash(last_mean);
+  if (renderer_options.world_cache) {
+    // The cache's persistent cells at the end: equal across runs and thread counts.
+    const gpu::WorldCache& cache = renderer->world_cache();
+    auto hash = [](const auto& v) { return fmt::format("{:016x}", XXH3_64bits(v.data(), v.size() * sizeof(v[0]))); };
+    s["world_cache_hashes"] = {{"checksums", hash(cache.checksums())},
+                               {"life", hash(cache.life())},
+                               {"radiance", hash(cache.radiance())},
+                               {"root_frame", hash(cache.root_frames())}};
+  }
   s["captures"] = capture_files;
+  s["failure_captures"] = failure_captures;
+  if (hash_log) s["hash_log"] = "buffer_hashes.jsonl";
+  if (!options.resume_from.empty())
+    s["resumed_from"] = {{"capture", options.resume_from.string()}, {"frame", first_frame - 1}};
   s["wall_seconds"] = json_figure(wall);
   write_json_file(options.out_dir / "summary.json", s);
 

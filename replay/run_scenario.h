@@ -25,6 +25,14 @@ struct RunOptions {
   bool quiet = false;
   std::optional<std::string> profile;   // --profile (name or file), else the scenario's
   std::vector<std::string> sets;        // --set key=value, applied after the scenario's overrides
+  // Replay (replay/capture.h): a capture folder; its state is restored and
+  // the run continues after its frame.
+  std::filesystem::path resume_from;
+  // Per-frame hashes of every state buffer to <out>/buffer_hashes.jsonl
+  // (also on with captures, resume and the determinism check).
+  bool record_hashes = false;
+  // Nightly: capture the first failing frame of each failing check (replay/failure_capture.h).
+  bool capture_failures = false;
 };
 
 struct RunResult {

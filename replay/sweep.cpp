@@ -24,6 +24,7 @@
 #include "core/reference/embree_reference.h"
 #include "core/reference/reference_cache.h"
 #include "core/scene_builder.h"
+#include "replay/capture.h"
 #include "replay/checks/reference_check.h"
 #include "replay/commands.h"
 #include "replay/events.h"
@@ -153,7 +154,7 @@ int run_sweep(const SweepOptions& o) {
     double ms = 0;
     for (const auto& [pass, stats] : timings["passes"].items())
       ms += stats["median_ms"].is_number() ? stats["median_ms"].get<double>() : std::nan("");
-    const Image gpu_image = read_exr(ro.out_dir / fmt::format("captures/frame_{:05}.exr", last)).at("");
+    const Image gpu_image = read_exr(ro.out_dir / capture_images_file(last)).at("");
 
     const Scene scene = scene_at_frame(build_scene(s), s, last);
     ReferenceOptions ref_options;

@@ -64,7 +64,9 @@ std::vector<Plot> per_frame_plots(const std::string& scenario, const nlohmann::j
   for (auto& [k, p] : scalar) plots.push_back(std::move(p));
   for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array())) {
     const nlohmann::json compared = c.value("figures", nlohmann::json::object()).value("frames", nlohmann::json::array());
-    if (compared.empty() || !compared[0].contains("relmse")) continue;
+    // Only a reference-style check has a list of compared frames ("frames"
+    // may also be a count, e.g. cache_lifetime's frames judged).
+    if (!compared.is_array() || compared.empty() || !compared[0].is_object() || !compared[0].contains("relmse")) continue;
     Plot p{scenario + ": " + c.value("name", "") + " check error", "frame", "relMSE", false, true, {}};
     for (const char* key : {"relmse", "combined_noise"}) {
       PlotSeries s{key, {}, {}, false};  // few compared frames: points

@@ -73,7 +73,7 @@ TEST(Cli, RunWritesSummaryWithDeviceAndPassTimings) {
     EXPECT_GT(passes[pass]["mean_ms"].get<double>(), 0.0);
   }
   EXPECT_EQ(s["frames"].size(), 8u);
-  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out/captures/frame_00007.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out/captures/frame_00007/images.exr"));
 }
 
 // Same scenario, seed and device: the same bits, also with one lavapipe thread.

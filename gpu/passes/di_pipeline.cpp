@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <stdexcept>
 
 #include "core/shared/light_tiles.h"
 #include "core/shared/reservoir.h"
@@ -129,6 +130,36 @@ void DiPipeline::record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate) {
 }
 
 void DiPipeline::reset_accumulation() { accumulation_.fill_zero(); }
+
+void DiPipeline::list_state(StateList& out) {
+  const std::uint64_t c = settings_.chains, h = height_, w = width_;
+  const std::uint64_t tiles = settings_.tile_count, samples = settings_.samples_per_tile;
+  // The translation table is not listed: record() uploads it from the host
+  // state every frame before any pass reads it.
+  out.push_back({"di/light_tile_samples", &tile_samples_, "<u4", {c, tiles, samples, 4}, "LightSample (core/shared/light_tiles.h)"});
+  out.push_back({"di/light_tiles_packed", &tile_packed_, "<u4", {c, tiles, samples, 6}, "PackedLightSample (core/shared/light_tiles.h)"});
+  out.push_back({"di/stored_reservoirs", &stored_, "<u4", {c, h, w, 8}, "DiReservoir (core/shared/reservoir.h)"});
+  out.push_back({"di/mid_reservoirs", &mid_, "<u4", {c, h, w, 8}, "DiReservoir (core/shared/reservoir.h)"});
+  out.push_back({"di/surfaces", &surfaces_, "<f4", {h, w, 12}, "DiSurface (core/shared/restir_di.h)"});
+  out.push_back({"di/output", &output_, "<f4", {c, h, w, 4}, "rgb, w 1 on a hit"});
+  out.push_back({"di/accumulation", &accumulation_, "<f4", {c, h, w, 4}, "rgb sum, w frames"});
+}
+
+void DiPipeline::save_host_state(HostState& out) const {
+  out.push_back({"di/previous_light_keys", previous_keys_});
+  out.push_back({"di/flags", {previous_light_count_, history_valid_ ? 1u : 0u, lights_updated_ ? 1u : 0u}});
+}
+
+void DiPipeline::restore_host_state(const HostState& in) {
+  const HostStateEntry* keys = find_host_state(in, "di/previous_light_keys");
+  const HostStateEntry* flags = find_host_state(in, "di/flags");
+  if (!keys || !flags || flags->words.size() != 3)
+    throw std::invalid_argument("DiPipeline::restore_host_state: di/previous_light_keys and di/flags (3 words) needed");
+  previous_keys_ = keys->words;
+  previous_light_count_ = flags->words[0];
+  history_valid_ = flags->words[1] != 0;
+  lights_updated_ = flags->words[2] != 0;
+}
 
 Image DiPipeline::frame(std::uint32_t chain) const {
   const auto all = output_.download<glm::vec4>(settings_.chains * pixels());

@@ -15,6 +15,7 @@
 #include "gpu/buffer.h"
 #include "gpu/passes/light_tiles.h"
 #include "gpu/passes/restir_di.h"
+#include "gpu/state_buffers.h"
 #include "gpu/timer.h"
 
 namespace gi::gpu {
@@ -38,6 +39,13 @@ class DiPipeline {
   Image mean(std::uint32_t chain) const;   // sum / frames over the window
   std::uint32_t accumulated_frames(std::uint32_t chain) const;
   const DiSettings& settings() const { return settings_; }
+
+  // Captures and replay (gpu/state_buffers.h): every buffer a frame writes or
+  // carries to the next, and the host-side state. Restore after
+  // update_lights() of the captured frame's scene (it resets the keys).
+  void list_state(StateList& out);
+  void save_host_state(HostState& out) const;
+  void restore_host_state(const HostState& in);
 
  private:
   void upload_translation(const std::vector<std::uint32_t>& table);

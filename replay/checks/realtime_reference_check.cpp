@@ -87,7 +87,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   options.height = gpu.frame_a.height;
   options.spp = params_.spp;
   options.seed = seed_;
-  options.direct_only = true;
+  options.direct_only = !gpu.full_gi;
   bool hit = false;
   const ReferenceResult ref = cached_reference(scene, options, cache_dir_, &hit);
 
@@ -104,7 +104,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   f.reference_cached = hit;
   f.evidence = fmt::format("reference/frame_{:05}.exr", frame);
   write_exr(out_dir_ / f.evidence,
-            {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frame_a}, {"embree_di", &ref.mean}});
+            {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frame_a}, {gpu.full_gi ? "embree_full_gi" : "embree_di", &ref.mean}});
   frames_.push_back(std::move(f));
 }
 

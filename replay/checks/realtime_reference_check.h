@@ -29,6 +29,9 @@ struct RealtimeEstimate {
   Image frame_a, frame_b;  // this frame's DI of chains A and B
   Image mean_a, mean_b;    // temporal means over the window
   std::uint32_t window_start = 0, window_frames = 0;
+  // The images are DI + GI + specular ("gi": true): compared with the Embree
+  // full path tracer instead of its direct-lighting mode.
+  bool full_gi = false;
 };
 
 // Error on pixels near strong luminance edges of the reference (shadow

@@ -1,0 +1,132 @@
+#include "core/scenes/cache_scenes.h"
+
+#include "core/scenes/mesh_builder.h"
+
+namespace gi {
+namespace {
+
+Material diffuse(const std::string& name, glm::vec3 albedo) {
+  Material m;
+  m.name = name;
+  m.base_color = albedo;
+  m.perceptual_roughness = 1.0f;
+  m.reflectance = 0.0f;  // pure Lambert: the cache's own model of a surface
+  return m;
+}
+
+Material emitter(const std::string& name, glm::vec3 radiance) {
+  Material m = diffuse(name, glm::vec3(0.0f));
+  m.emissive = radiance;
+  return m;
+}
+
+// Axis-aligned box, faces outwards (blocks) or inwards (a room's shell).
+Mesh box(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards = false) {
+  Mesh m{name};
+  const glm::vec3 c = 0.5f * (lo + hi);
+  auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
+  const bool away = !inwards;
+  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 1, 0), P(0, 1, 0), c, away);
+  add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, away);
+  add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, away);
+  add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, away);
+  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, away);
+  add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, away);
+  return m;
+}
+
+// The room: x, z in [−2, 2], y in [0, 3]; walls face inwards. With a doorway,
+// the +z wall has a 1.2 × 2.2 m opening at x in [−0.6, 0.6].
+Mesh room_shell(bool doorway) {
+  Mesh m{"room"};
+  const glm::vec3 inside(0.0f, 1.5f, 0.0f);
+  add_quad(m, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, inside);    // floor
+  add_quad(m, {-2, 3, -2}, {2, 3, -2}, {2, 3, 2}, {-2, 3, 2}, inside);    // ceiling
+  add_quad(m, {-2, 0, -2}, {2, 0, -2}, {2, 3, -2}, {-2, 3, -2}, inside);  // back (−z)
+  add_quad(m, {-2, 0, -2}, {-2, 3, -2}, {-2, 3, 2}, {-2, 0, 2}, inside);  // left (−x)
+  add_quad(m, {2, 0, -2}, {2, 3, -2}, {2, 3, 2}, {2, 0, 2}, inside);      // right (+x)
+  if (!doorway) {
+    add_quad(m, {-2, 0, 2}, {2, 0, 2}, {2, 3, 2}, {-2, 3, 2}, inside);    // front (+z)
+    return m;
+  }
+  add_quad(m, {-2, 0, 2}, {-0.6f, 0, 2}, {-0.6f, 3, 2}, {-2, 3, 2}, inside);
+  add_quad(m, {0.6f, 0, 2}, {2, 0, 2}, {2, 3, 2}, {0.6f, 3, 2}, inside);
+  add_quad(m, {-0.6f, 2.2f, 2}, {0.6f, 2.2f, 2}, {0.6f, 3, 2}, {-0.6f, 3, 2}, inside);
+  return m;
+}
+
+void add_room(Scene& s, bool doorway) {
+  add_object(s, room_shell(doorway), diffuse("room", glm::vec3(0.55f, 0.53f, 0.5f)));
+  add_object(s, box("red_block", {-1.6f, 0.0f, -1.6f}, {-0.8f, 1.0f, -0.8f}), diffuse("red_block", {0.7f, 0.15f, 0.12f}));
+  add_object(s, box("green_block", {0.7f, 0.0f, -1.2f}, {1.5f, 0.6f, -0.4f}),
+             diffuse("green_block", {0.15f, 0.6f, 0.2f}));
+  // The ceiling panel faces down, a little below the ceiling.
+  Mesh light{"light"};
+  add_quad(light, {-0.5f, 2.98f, -0.5f}, {0.5f, 2.98f, -0.5f}, {0.5f, 2.98f, 0.5f}, {-0.5f, 2.98f, 0.5f},
+           {0.0f, 0.0f, 0.0f});
+  add_object(s, std::move(light), emitter("light", glm::vec3(12.0f, 11.0f, 9.5f)));
+}
+
+void add_sun(Scene& s) {
+  DirectionalLight sun;
+  sun.name = "sun";
+  sun.direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
+  sun.color = glm::vec3(1.0f, 0.96f, 0.9f);
+  sun.illuminance = 3.0f;
+  s.directional_lights.push_back(sun);
+}
+
+}  // namespace
+
+Scene make_cache_closed_room() {
+  Scene s;
+  s.name = "cache_closed_room";
+  add_room(s, false);
+  s.camera.position = {0.0f, 1.6f, 1.8f};
+  s.camera.target = {0.0f, 1.0f, -2.0f};
+  s.camera.vertical_fov_degrees = 70.0f;
+  return s;
+}
+
+Scene make_cache_room_and_yard() {
+  Scene s;
+  s.name = "cache_room_and_yard";
+  add_room(s, true);
+  Mesh yard{"yard"};
+  add_quad(yard, {-30, -0.01f, 2}, {30, -0.01f, 2}, {30, -0.01f, 62}, {-30, -0.01f, 62}, {0, 1, 30});
+  add_object(s, std::move(yard), diffuse("yard", glm::vec3(0.45f, 0.5f, 0.4f)));
+  for (int i = 0; i < 8; ++i) {
+    const float x = -21.0f + 6.0f * float(i), z = 14.0f + 3.0f * float(i % 3);
+    add_object(s, box("yard_block_" + std::to_string(i), {x, 0.0f, z}, {x + 2.0f, 1.0f + 0.5f * float(i % 4), z + 2.0f}),
+               diffuse("yard_block_" + std::to_string(i), glm::vec3(0.6f, 0.55f, 0.5f)));
+  }
+  add_sun(s);
+  s.camera.position = {0.0f, 1.6f, 1.0f};
+  s.camera.target = {0.0f, 1.0f, -2.0f};
+  s.camera.vertical_fov_degrees = 70.0f;
+  return s;
+}
+
+Scene make_cache_open_field() {
+  Scene s;
+  s.name = "cache_open_field";
+  Mesh ground{"ground"};
+  add_quad(ground, {-200, 0, -200}, {200, 0, -200}, {200, 0, 200}, {-200, 0, 200}, {0, 1, 0});
+  add_object(s, std::move(ground), diffuse("ground", glm::vec3(0.4f, 0.45f, 0.35f)));
+  // Blocks on a 20 m grid out to 180 m: near ones fine cells, far ones coarse.
+  int n = 0;
+  for (int i = -9; i <= 9; ++i)
+    for (int j = -9; j <= 9; ++j) {
+      if ((i * 7 + j * 3) % 4 != 0) continue;
+      const float x = 20.0f * float(i), z = 20.0f * float(j), h = 2.0f + float((i * i + j) % 5);
+      const std::string name = "block_" + std::to_string(n++);
+      add_object(s, box(name, {x - 2.0f, 0.0f, z - 2.0f}, {x + 2.0f, h, z + 2.0f}), diffuse(name, glm::vec3(0.6f)));
+    }
+  add_sun(s);
+  s.camera.position = {3.0f, 2.0f, 3.0f};
+  s.camera.target = {40.0f, 0.0f, 60.0f};
+  s.camera.vertical_fov_degrees = 60.0f;
+  return s;
+}
+
+}  // namespace gi

@@ -1,0 +1,20 @@
+// Generated scenes for the world-cache checks (issue 4): small, deterministic,
+// parameter-free, all Lambertian (the cache treats surfaces as diffuse).
+//   cache_closed_room : a closed 4 × 3 × 4 m room lit by one ceiling panel
+//                       ("light"); light bounces around and cannot leave, so a
+//                       cache feeding on itself lags longest here.
+//   cache_room_and_yard : the same room with a doorway in its +z wall onto a
+//                       60 × 60 m yard with a row of blocks under a sun
+//                       ("sun", directional); a camera walks out and back.
+//   cache_open_field  : a 400 × 400 m field of blocks under a sun: far
+//                       surfaces fall into coarse LOD cells.
+#pragma once
+#include "core/scene.h"
+
+namespace gi {
+
+Scene make_cache_closed_room();
+Scene make_cache_room_and_yard();
+Scene make_cache_open_field();
+
+}  // namespace gi

@@ -1,0 +1,24 @@
+// Hard scenes for ReSTIR GI and specular GI (DESIGN §7, issue 5), generated,
+// deterministic, small, parameter-free:
+//   gi_corners    : a closed room (so nearly every GI ray finds a surface)
+//                   with tight corners — a wedge of two walls 5° apart, a
+//                   thin wall 1 cm thick — lit by one ceiling emitter; the
+//                   camera looks into the corner. Neighbouring pixels see
+//                   sample points nearly edge-on: jacobians blow up here.
+//   gi_mirror     : a Cornell-like room with a zero-roughness metallic mirror
+//                   (perceptual roughness 0) on the back wall and a glossy
+//                   floor (roughness 0.3): zero roughness is NaN without the clamp.
+//   gi_hard_cases : a grazing view along a long floor, emitters of radiance
+//                   1e-4 and 1e6 side by side with one of 1, a degenerate
+//                   (zero-area) triangle and sliver triangles (aspect 1e4),
+//                   and a zero-roughness mirror — everything `finite` must survive.
+#pragma once
+#include "core/scene.h"
+
+namespace gi {
+
+Scene make_gi_corners();
+Scene make_gi_mirror();
+Scene make_gi_hard_cases();
+
+}  // namespace gi

@@ -1,0 +1,63 @@
+// ReSTIR GI and specular GI as the Renderer drives them (DESIGN §3 steps 7-8):
+// owns the GI reservoirs, last frame's surfaces, the outputs and sums of
+// `chains` independent chains (as DiPipeline: two chains are two honest
+// halves for the reference check), and the per-frame statistics buffer the
+// `jacobian` and `finite` checks read (integer atomics; 160 bytes a frame).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/image.h"
+#include "gpu/buffer.h"
+#include "gpu/passes/restir_gi.h"
+#include "gpu/passes/specular_gi.h"
+#include "gpu/state_buffers.h"
+#include "gpu/timer.h"
+
+namespace gi::gpu {
+
+// One frame's GiStats (core/shared/restir_gi.h), read back after the frame.
+struct GiFrameStats {
+  std::uint32_t merges = 0, rejections = 0;
+  float max_accepted_j = 0.0f;
+  std::uint32_t nonfinite_jacobians = 0, nonfinite_reservoirs = 0, nonfinite_output = 0;
+  std::vector<std::uint32_t> log2_j_histogram;  // bin b: 2^(b−16) ≤ J < 2^(b−15); bin 0 holds J = 0
+};
+
+class GiPipeline {
+ public:
+  GiPipeline(Device& device, ShaderCompiler& compiler, const GiSettings& settings, std::uint32_t width,
+             std::uint32_t height);
+
+  void bind(const SceneResources& scene, const Buffer& gbuffer);
+  // Records gi_initial_temporal, gi_spatial_shade and (settings.specular)
+  // specular_gi, each timed, with barriers. Zeroes the statistics first.
+  void record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate, std::uint32_t frame_index, std::uint32_t seed);
+  void reset_accumulation();
+
+  Image gi_frame(std::uint32_t chain) const;
+  Image gi_mean(std::uint32_t chain) const;
+  Image specular_frame(std::uint32_t chain) const;  // zeros when specular is off
+  Image specular_mean(std::uint32_t chain) const;
+  GiFrameStats stats() const;
+  const GiSettings& settings() const { return settings_; }
+
+  void list_state(StateList& out);
+  void save_host_state(HostState& out) const;
+  void restore_host_state(const HostState& in);
+
+ private:
+  std::size_t pixels() const { return std::size_t(width_) * height_; }
+  Image channel(const Buffer& buffer, std::uint32_t chain, bool mean) const;
+
+  GiSettings settings_;
+  std::uint32_t width_, height_;
+  Buffer stored_, mid_, surfaces_, output_, accumulation_, stats_, specular_output_, specular_accumulation_;
+  GiInitialTemporal initial_temporal_;
+  GiSpatialShade spatial_shade_;
+  std::optional<SpecularGi> specular_;
+  bool history_valid_ = false;
+};
+
+}  // namespace gi::gpu

@@ -1,0 +1,68 @@
+#include "gpu/passes/restir_gi.h"
+
+#include <stdexcept>
+
+#include "gpu/buffer.h"
+#include "gpu/shaders/bindings.h"
+
+namespace gi::gpu {
+
+using namespace gi::shader;
+
+namespace {
+
+std::vector<DescriptorBinding> descriptor_bindings(const std::vector<std::uint32_t>& gi) {
+  std::vector<DescriptorBinding> b = scene_descriptor_bindings();
+  b.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  b.push_back({BINDING_GI_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  for (std::uint32_t n : gi) b.push_back({n, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  return b;
+}
+
+const Buffer& buffer_for(std::uint32_t binding, const GiBuffers& b) {
+  const Buffer* p = nullptr;
+  switch (binding) {
+    case BINDING_GI_RESERVOIRS_STORED: p = b.stored; break;
+    case BINDING_GI_RESERVOIRS_MID: p = b.mid; break;
+    case BINDING_GI_SURFACES: p = b.surfaces; break;
+    case BINDING_GI_OUTPUT: p = b.output; break;
+    case BINDING_GI_ACCUMULATION: p = b.accumulation; break;
+    case BINDING_SPECULAR_OUTPUT: p = b.specular_output; break;
+    case BINDING_SPECULAR_ACCUMULATION: p = b.specular_accumulation; break;
+    default: break;
+  }
+  if (!p) throw std::logic_error("GiPass: no buffer for binding " + std::to_string(binding));
+  return *p;
+}
+
+}  // namespace
+
+GiPass::GiPass(Device& device, ShaderCompiler& compiler, const GiSettings& settings, const char* name,
+               const char* shader, std::vector<std::uint32_t> gi_bindings)
+    : chains_(settings.chains),
+      gi_bindings_(std::move(gi_bindings)),
+      pass_(device, name, compiler.compile_file(shader, settings.defines()).spirv, descriptor_bindings(gi_bindings_),
+            sizeof(GiPushConstants)) {}
+
+void GiPass::bind(const SceneResources& scene, const GiBuffers& b) {
+  pass_.bind_scene(scene);
+  pass_.bind_buffer(BINDING_GBUFFER, *b.gbuffer);
+  pass_.bind_buffer(BINDING_GI_STATS, *b.stats);
+  for (std::uint32_t n : gi_bindings_) pass_.bind_buffer(n, buffer_for(n, b));
+}
+
+void GiPass::record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height,
+                    const GiPushConstants& push) const {
+  pass_.dispatch(cmd, group_count(width, RAY_WORKGROUP_X), group_count(height, RAY_WORKGROUP_Y), chains_, &push);
+}
+
+GiInitialTemporal::GiInitialTemporal(Device& device, ShaderCompiler& compiler, const GiSettings& s)
+    : GiPass(device, compiler, s, "gi_initial_temporal", kShader,
+             {BINDING_GI_RESERVOIRS_STORED, BINDING_GI_RESERVOIRS_MID, BINDING_GI_SURFACES}) {}
+
+GiSpatialShade::GiSpatialShade(Device& device, ShaderCompiler& compiler, const GiSettings& s)
+    : GiPass(device, compiler, s, "gi_spatial_shade", kShader,
+             {BINDING_GI_RESERVOIRS_STORED, BINDING_GI_RESERVOIRS_MID, BINDING_GI_SURFACES, BINDING_GI_OUTPUT,
+              BINDING_GI_ACCUMULATION}) {}
+
+}  // namespace gi::gpu

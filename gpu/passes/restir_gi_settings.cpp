@@ -1,0 +1,31 @@
+#include "gpu/passes/restir_gi_settings.h"
+
+#include <string>
+
+#include <fmt/format.h>
+
+namespace gi::gpu {
+
+std::vector<ShaderDefine> GiSettings::defines() const {
+  // Floats printed with enough digits to round-trip, as GLSL float literals.
+  auto f = [](float v) {
+    const std::string s = fmt::format("{:.9g}", v);
+    return s.find_first_of(".e") == std::string::npos ? s + ".0" : s;
+  };
+  return {{"GI_CONFIDENCE_CAP", f(confidence_cap)},
+          {"GI_SPATIAL_RADIUS", f(spatial_radius)},
+          {"GI_SPATIAL_TRIES", std::to_string(spatial_tries) + "u"},
+          {"GI_PLANE_TOLERANCE", f(plane_tolerance)},
+          {"GI_NORMAL_MIN_DOT", f(normal_min_dot)},
+          {"GI_JACOBIAN_REJECT", f(jacobian_reject)},
+          {"GI_JACOBIAN_REJECTION", jacobian_rejection ? "1" : "0"},
+          {"GI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
+          {"GI_CONSISTENT_MIS", consistent_mis ? "1" : "0"},
+          {"GI_HIT_RADIANCE", std::to_string(static_cast<int>(hit_radiance))},
+          {"GI_RAY_TMAX", f(ray_tmax)},
+          {"SPECULAR_REUSE_ROUGHNESS", f(specular_reuse_roughness)},
+          {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
+          {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
+}
+
+}  // namespace gi::gpu

@@ -1,0 +1,243 @@
+#include "gpu/passes/world_cache.h"
+
+#include <algorithm>
+#include <bit>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "gpu/shaders/bindings.h"
+#include "gpu/shaders/world_cache_bindings.h"
+
+namespace gi::gpu {
+
+using namespace gi::shader;
+
+static_assert(sizeof(WorldCacheGeometry) == 32);
+static_assert(sizeof(WorldCachePending) == 36, "scalars only: std430 stride 36");
+static_assert(sizeof(WorldCacheCounters) == 48);
+static_assert(sizeof(WorldCacheStats) == 48);
+static_assert(sizeof(WorldCachePush) == 16);
+
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+// Every cache pass declares the same table (the scene's bindings, the
+// G-buffer, the cache's 50-64), so one list serves them all.
+std::vector<DescriptorBinding> cache_bindings() {
+  std::vector<DescriptorBinding> b = scene_descriptor_bindings();
+  b.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  for (std::uint32_t i = BINDING_WC_CHECKSUMS; i <= BINDING_WC_VIEW; ++i)
+    b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  return b;
+}
+
+ComputePass make_pass(Device& device, ShaderCompiler& compiler, const char* name,
+                      const std::vector<ShaderDefine>& defines) {
+  const std::string file = fmt::format("gpu/shaders/{}.comp", name);
+  return ComputePass(device, name, compiler.compile_file(file, defines).spirv, cache_bindings(),
+                     sizeof(WorldCachePush));
+}
+
+// Shader writes → reads, writes and indirect-argument reads of later passes.
+void indirect_barrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
+                    VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                           VK_PIPELINE_STAGE_HOST_BIT,
+                       0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+WorldCacheSettings checked(const WorldCacheSettings& s) {
+  if (!std::has_single_bit(s.cells) || s.cells < WORLD_CACHE_SCAN_BLOCK)
+    throw InputError("world_cache.cells", "",
+                     fmt::format("a power of two of at least {}, got {}", WORLD_CACHE_SCAN_BLOCK, s.cells));
+  if (s.lifetime == 0) throw InputError("world_cache.lifetime", "", "a lifetime of at least 1 frame");
+  return s;
+}
+
+}  // namespace
+
+std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capacity) const {
+  // Floats printed to round-trip, as GLSL float literals.
+  auto f = [](float v) {
+    std::string t = fmt::format("{:.9g}", v);
+    return t.find_first_of(".e") == std::string::npos ? t + ".0" : t;
+  };
+  auto u = [](std::uint32_t v) { return std::to_string(v) + "u"; };
+  std::vector<ShaderDefine> d = {{"WORLD_CACHE_CELLS", u(cells)},
+                                 {"WORLD_CACHE_LIFETIME", u(lifetime)},
+                                 {"WORLD_CACHE_MAX_PROBE_STEPS", u(max_probe_steps)},
+                                 {"WORLD_CACHE_LINEAR_PROBING", linear_probing ? "1" : "0"},
+                                 {"WORLD_CACHE_CELL_SIZE_BASE", f(cell_size_base)},
+                                 {"WORLD_CACHE_LOD_SCALE", f(lod_scale)},
+                                 {"WORLD_CACHE_C2C_FULL", cache_to_cache_full ? "1" : "0"},
+                                 {"WORLD_CACHE_ADAPTIVE", adaptive_blend ? "1" : "0"},
+                                 {"WORLD_CACHE_MAX_SAMPLES", f(max_samples)},
+                                 {"WORLD_CACHE_ADAPTIVE_EXPONENT", f(adaptive_exponent)},
+                                 {"WORLD_CACHE_DELTA_BLEND", f(delta_blend)},
+                                 {"WORLD_CACHE_DI_SAMPLES", u(di_samples)},
+                                 {"WORLD_CACHE_GI_TMAX", f(gi_ray_tmax)},
+                                 {"WORLD_CACHE_LIGHT_EXPOSURE", f(light_exposure)},
+                                 {"WORLD_CACHE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
+                                 {"WORLD_CACHE_PENDING_CAPACITY", u(pending_capacity)}};
+  if (root_frame) d.push_back({"WORLD_CACHE_ROOT_FRAME", ""});
+  return d;
+}
+
+WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCacheSettings& settings,
+                       std::uint32_t width, std::uint32_t height)
+    : settings_(checked(settings)),
+      width_(width),
+      height_(height),
+      // One record per query at most: a query pass has pixels or active cells of them.
+      pending_capacity_(std::max(width * height, settings.cells)),
+      checksums_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache checksums"),
+      life_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache life"),
+      radiance_(device, settings.cells * sizeof(glm::vec4), kStorage, "world cache radiance"),
+      delta_(device, settings.cells * sizeof(float), kStorage, "world cache luminance delta"),
+      geometry_(device, settings.cells * sizeof(WorldCacheGeometry), kStorage, "world cache geometry"),
+      root_frame_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache root frame"),
+      claims_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache claims"),
+      active_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache active cells"),
+      active_state_(device, settings.cells * sizeof(glm::uvec2), kStorage, "world cache active state"),
+      new_radiance_(device, settings.cells * sizeof(glm::vec4), kStorage, "world cache new radiance"),
+      block_sums_(device, settings.cells / WORLD_CACHE_SCAN_BLOCK * sizeof(std::uint32_t), kStorage,
+                  "world cache block sums"),
+      counters_(device, sizeof(WorldCacheCounters), kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                "world cache counters"),
+      pending_(device, std::size_t(pending_capacity_) * sizeof(WorldCachePending), kStorage,
+               "world cache pending insertions"),
+      stats_(device, sizeof(WorldCacheStats), kStorage, "world cache stats"),
+      view_(device, std::size_t(width) * height * sizeof(glm::vec4), kStorage, "world cache view"),
+      decay_(make_pass(device, compiler, "world_cache_decay", settings.defines(pending_capacity_))),
+      compact_count_(make_pass(device, compiler, "world_cache_compact_count", settings.defines(pending_capacity_))),
+      compact_scan_(make_pass(device, compiler, "world_cache_compact_scan", settings.defines(pending_capacity_))),
+      compact_write_(make_pass(device, compiler, "world_cache_compact_write", settings.defines(pending_capacity_))),
+      sample_di_(make_pass(device, compiler, "world_cache_sample_di", settings.defines(pending_capacity_))),
+      sample_gi_(make_pass(device, compiler, "world_cache_sample_gi", settings.defines(pending_capacity_))),
+      pending_args_(make_pass(device, compiler, "world_cache_pending_args", settings.defines(pending_capacity_))),
+      commit_(make_pass(device, compiler, "world_cache_commit", settings.defines(pending_capacity_))),
+      blend_(make_pass(device, compiler, "world_cache_blend", settings.defines(pending_capacity_))),
+      query_pixels_(make_pass(device, compiler, "world_cache_query_pixels", settings.defines(pending_capacity_))),
+      stats_pass_(make_pass(device, compiler, "world_cache_stats", settings.defines(pending_capacity_))) {
+  for (Buffer* b : {&checksums_, &life_, &radiance_, &delta_, &geometry_, &root_frame_, &claims_, &active_,
+                    &active_state_, &new_radiance_, &block_sums_, &counters_, &pending_, &stats_, &view_})
+    b->fill_zero();
+}
+
+void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
+  const std::pair<std::uint32_t, const Buffer*> table[] = {
+      {BINDING_GBUFFER, &gbuffer},          {BINDING_WC_CHECKSUMS, &checksums_},
+      {BINDING_WC_LIFE, &life_},            {BINDING_WC_RADIANCE, &radiance_},
+      {BINDING_WC_DELTA, &delta_},          {BINDING_WC_GEOMETRY, &geometry_},
+      {BINDING_WC_ROOT_FRAME, &root_frame_}, {BINDING_WC_CLAIMS, &claims_},
+      {BINDING_WC_ACTIVE, &active_},        {BINDING_WC_ACTIVE_STATE, &active_state_},
+      {BINDING_WC_NEW_RADIANCE, &new_radiance_}, {BINDING_WC_BLOCK_SUMS, &block_sums_},
+      {BINDING_WC_COUNTERS, &counters_},    {BINDING_WC_PENDING, &pending_},
+      {BINDING_WC_STATS, &stats_},          {BINDING_WC_VIEW, &view_}};
+  for (ComputePass* p : {&decay_, &compact_count_, &compact_scan_, &compact_write_, &sample_di_, &sample_gi_,
+                         &pending_args_, &commit_, &blend_, &query_pixels_, &stats_pass_}) {
+    p->bind_scene(scene);
+    for (const auto& [binding, buffer] : table) p->bind_buffer(binding, *buffer);
+  }
+}
+
+void WorldCache::record(VkCommandBuffer cmd, GpuTimer& timer) {
+  const std::uint32_t cells = settings_.cells;
+  const std::uint32_t blocks = cells / WORLD_CACHE_SCAN_BLOCK;
+  const WorldCachePush cache_to_cache{0, 0, 0, 0}, pixel_rooted{1, 0, 0, 0};
+  constexpr VkDeviceSize kActiveArgs = offsetof(WorldCacheCounters, active_args);
+  constexpr VkDeviceSize kGiPendingArgs = offsetof(WorldCacheCounters, gi_pending);
+  constexpr VkDeviceSize kPixelPendingArgs = offsetof(WorldCacheCounters, pixel_pending);
+
+  timer.begin(cmd, "world_cache_decay");
+  decay_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP), 1);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  timer.begin(cmd, "world_cache_compact");
+  compact_count_.dispatch(cmd, blocks, 1);
+  indirect_barrier(cmd);
+  compact_scan_.dispatch(cmd, 1, 1);
+  indirect_barrier(cmd);
+  compact_write_.dispatch(cmd, blocks, 1);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  timer.begin(cmd, "world_cache_sample_di");
+  sample_di_.dispatch_indirect(cmd, counters_, kActiveArgs);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  timer.begin(cmd, "world_cache_sample_gi");
+  sample_gi_.dispatch_indirect(cmd, counters_, kActiveArgs);
+  indirect_barrier(cmd);
+  pending_args_.dispatch(cmd, 1, 1, 1, &cache_to_cache);
+  indirect_barrier(cmd);
+  commit_.dispatch_indirect(cmd, counters_, kGiPendingArgs, &cache_to_cache);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  timer.begin(cmd, "world_cache_blend");
+  blend_.dispatch_indirect(cmd, counters_, kActiveArgs);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  timer.begin(cmd, "world_cache_query");
+  query_pixels_.dispatch(cmd, group_count(width_, RAY_WORKGROUP_X), group_count(height_, RAY_WORKGROUP_Y));
+  indirect_barrier(cmd);
+  pending_args_.dispatch(cmd, 1, 1, 1, &pixel_rooted);
+  indirect_barrier(cmd);
+  commit_.dispatch_indirect(cmd, counters_, kPixelPendingArgs, &pixel_rooted);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+
+  if (settings_.stats) {
+    timer.begin(cmd, "world_cache_stats");
+    stats_pass_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP), 1);
+    timer.end(cmd);
+    indirect_barrier(cmd);
+  }
+}
+
+WorldCacheFrameStats WorldCache::stats() const {
+  if (!settings_.stats) throw DeviceError("WorldCache::stats: the statistics pass is off (WorldCacheSettings::stats)");
+  const WorldCacheCounters c = counters_.download<WorldCacheCounters>(1)[0];
+  const WorldCacheStats s = stats_.download<WorldCacheStats>(1)[0];
+  WorldCacheFrameStats f;
+  f.active_cells = c.active_args.w;
+  f.live_cells = s.live_cells;
+  f.sampled_cells = s.sampled_cells;
+  const double sum = (double(s.radiance_sum_hi) * 4294967296.0 + double(s.radiance_sum_lo)) / WORLD_CACHE_STATS_SCALE;
+  f.mean_radiance = s.sampled_cells ? sum / s.sampled_cells : 0.0;
+  f.over_age_cells = s.over_age_cells;
+  f.oldest_age = s.oldest_age;
+  f.life_out_of_range = s.life_out_of_range;
+  f.dead_not_empty = s.dead_not_empty;
+  f.nonfinite_cells = s.nonfinite_cells;
+  return f;
+}
+
+Image WorldCache::view() const {
+  const auto v = view_.download<glm::vec4>(std::size_t(width_) * height_);
+  Image img(width_, height_);
+  for (std::size_t i = 0; i < v.size(); ++i) img.pixels[i] = glm::vec3(v[i]);
+  return img;
+}
+
+void WorldCache::list_state(StateList& out) {
+  const std::uint64_t n = settings_.cells;
+  out.push_back({"world_cache/checksums", &checksums_, "<u4", {n}});
+  out.push_back({"world_cache/life", &life_, "<u4", {n}});
+  out.push_back({"world_cache/radiance", &radiance_, "<f4", {n, 4}, "rgb irradiance, a sample count"});
+  out.push_back({"world_cache/luminance_delta", &delta_, "<f4", {n}});
+  out.push_back({"world_cache/geometry", &geometry_, "<f4", {n, 8}, "WorldCacheGeometry (core/shared/world_cache.h)"});
+  out.push_back({"world_cache/root_frame", &root_frame_, "<u4", {n}});
+}
+
+}  // namespace gi::gpu

@@ -1,0 +1,99 @@
+// The world cache (DESIGN §3 step 5) as the Renderer drives it: owns the
+// spatial hash's buffers and its passes, one GLSL file each under
+// gpu/shaders/world_cache_*.comp:
+//   decay → compact (count, scan, write: the active list and an indirect
+//   dispatch) → sample_di → sample_gi (cache-to-cache queries) → commit →
+//   blend → query_pixels (pixel-rooted: the cache view) → commit → stats.
+// Insertions are deterministic: a query that finds an empty slot claims it
+// with atomicMin of its id and leaves a record; the commit pass writes the
+// lowest id's record (README, "World cache").
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "core/shared/world_cache.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pass.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/state_buffers.h"
+#include "gpu/timer.h"
+
+namespace gi::gpu {
+
+// Every constant from the profile (world_cache.*, light_tiles.* for the radiance encoding).
+struct WorldCacheSettings {
+  std::uint32_t cells = 1u << 20;       // power of two, ≥ WORLD_CACHE_SCAN_BLOCK
+  std::uint32_t lifetime = 30;
+  std::uint32_t max_probe_steps = 3;
+  bool linear_probing = true;           // false: re-hash (0.17)
+  float cell_size_base = 0.25f;
+  float lod_scale = 8.0f;
+  bool cache_to_cache_full = false;     // true: 0.17's lifetime rule
+  bool adaptive_blend = true;           // false: 0.17's fixed blend
+  float max_samples = 32.0f;
+  float adaptive_exponent = 0.125f;
+  float delta_blend = 0.125f;
+  std::uint32_t di_samples = 32;
+  float gi_ray_tmax = 50.0f;
+  float light_exposure = 1.0f;
+  bool log2_radiance = true;
+  bool stats = false;       // the per-frame statistics pass (blend_lag, cache_lifetime)
+  bool root_frame = false;  // root-frame instrumentation (cache_lifetime): WORLD_CACHE_ROOT_FRAME
+
+  std::vector<ShaderDefine> defines(std::uint32_t pending_capacity) const;
+};
+
+// One frame's statistics (settings.stats), read after render.
+struct WorldCacheFrameStats {
+  std::uint32_t active_cells = 0;      // cells this frame's update sampled
+  std::uint32_t live_cells = 0;        // at the end of the frame
+  std::uint32_t sampled_cells = 0;
+  double mean_radiance = 0.0;          // mean luminance of the sampled cells' irradiance
+  std::uint32_t over_age_cells = 0;    // root-frame instrumentation only
+  std::uint32_t oldest_age = 0;
+  std::uint32_t life_out_of_range = 0;
+  std::uint32_t dead_not_empty = 0;
+  std::uint32_t nonfinite_cells = 0;
+};
+
+class WorldCache {
+ public:
+  WorldCache(Device& device, ShaderCompiler& compiler, const WorldCacheSettings& settings, std::uint32_t width,
+             std::uint32_t height);
+
+  void bind(const SceneResources& scene, const Buffer& gbuffer);
+  // Records every pass with barriers; timed as world_cache_decay,
+  // world_cache_compact, world_cache_sample_di, world_cache_sample_gi (with its
+  // commit), world_cache_blend, world_cache_query (with its commit) and
+  // world_cache_stats.
+  void record(VkCommandBuffer cmd, GpuTimer& timer);
+
+  WorldCacheFrameStats stats() const;
+  Image view() const;  // irradiance at each pixel's primary surface, from the cache
+  // Persistent buffers: checksums, life, radiance, luminance delta, geometry, root frame.
+  void list_state(StateList& out);
+  const WorldCacheSettings& settings() const { return settings_; }
+
+  std::vector<std::uint32_t> checksums() const { return checksums_.download<std::uint32_t>(settings_.cells); }
+  std::vector<std::uint32_t> life() const { return life_.download<std::uint32_t>(settings_.cells); }
+  std::vector<glm::vec4> radiance() const { return radiance_.download<glm::vec4>(settings_.cells); }
+  std::vector<std::uint32_t> root_frames() const { return root_frame_.download<std::uint32_t>(settings_.cells); }
+  std::vector<shader::WorldCacheGeometry> geometry() const {
+    return geometry_.download<shader::WorldCacheGeometry>(settings_.cells);
+  }
+
+ private:
+  WorldCacheSettings settings_;
+  std::uint32_t width_, height_;
+  std::uint32_t pending_capacity_;
+  Buffer checksums_, life_, radiance_, delta_, geometry_, root_frame_;
+  Buffer claims_, active_, active_state_, new_radiance_, block_sums_, counters_, pending_, stats_, view_;
+  ComputePass decay_, compact_count_, compact_scan_, compact_write_, sample_di_, sample_gi_, pending_args_,
+      commit_, blend_, query_pixels_, stats_pass_;
+};
+
+}  // namespace gi::gpu

@@ -1,0 +1,142 @@
+// What the ReSTIR GI and specular GI passes share (DESIGN §3 steps 7-8):
+// bindings, the pixel's surface from the G-buffer, the radiance of a GI
+// sample's hit point, and the merge with its statistics. Include after
+// scene_bindings.glsl (with the path integrator).
+//
+// Defines (gpu/passes/restir_gi_settings.cpp): GI_CONFIDENCE_CAP,
+// GI_SPATIAL_RADIUS, GI_SPATIAL_TRIES, GI_CONSISTENT_MIS (restir_gi.mis_weights), GI_PLANE_TOLERANCE, GI_NORMAL_MIN_DOT,
+// GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
+// GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_HIT_RADIANCE (0: one
+// NEE light sample, 1: one cosine-sampled path), GI_RAY_TMAX,
+// SPECULAR_REUSE_ROUGHNESS, SPECULAR_MAX_BOUNCES, SPECULAR_MIN_PERCEPTUAL_ROUGHNESS.
+#include "core/shared/restir_gi.h"
+#include "core/shared/restir_di.h"
+#include "core/shared/specular.h"
+#include "gpu/shaders/gbuffer.h"
+#include "gpu/shaders/gi_bindings.h"
+
+layout(push_constant) uniform Push { GiPushConstants push; };
+
+layout(std430, set = 0, binding = BINDING_GBUFFER) readonly buffer GBuffer { GBufferTexel gbuffer[]; };
+layout(std430, set = 0, binding = BINDING_GI_STATS) buffer Stats { GiStats gi_stats; };
+
+struct GiPixel {
+  bool hit;
+  vec3 position;
+  vec3 ng;       // geometric normal on the camera's side
+  vec3 ns;       // shading normal on that side
+  vec3 view;     // unit, towards the camera
+  float view_z;
+  vec3 base_color;
+  float metallic;
+  float perceptual_roughness;
+  float reflectance;
+  vec3 diffuse;  // base colour · (1 − metallic)
+  vec4 motion;   // xy pixels to the previous frame, z 1 if valid
+};
+
+GiPixel gi_pixel(uvec2 pixel) {
+  uvec2 resolution = frame.resolution_frame.xy;
+  GBufferTexel g = gbuffer[pixel.y * resolution.x + pixel.x];
+  GiPixel d;
+  d.hit = g.geometric_normal.w > 0.0;
+  vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
+  d.position = g.position_depth.xyz;
+  d.ng = dot(dir, g.geometric_normal.xyz) < 0.0 ? g.geometric_normal.xyz : -g.geometric_normal.xyz;
+  d.ns = dot(g.shading_normal.xyz, d.ng) < 0.0 ? -g.shading_normal.xyz : g.shading_normal.xyz;
+  d.view = -dir;
+  d.view_z = dot(d.position - frame.camera.position.xyz, normalize(frame.camera.forward.xyz));
+  d.base_color = g.base_color_metallic.rgb;
+  d.metallic = g.base_color_metallic.a;
+  d.perceptual_roughness = g.emissive_roughness.a;
+  d.reflectance = g.motion_reflectance.w;
+  d.diffuse = d.base_color * (1.0 - d.metallic);
+  d.motion = vec4(g.motion_reflectance.xyz, 0.0);
+  return d;
+}
+
+bool gi_dissimilar(GiPixel d, vec3 other_position, vec3 other_normal) {
+  return pixel_dissimilar(d.view_z, d.position, other_position, d.ns, other_normal, GI_PLANE_TOLERANCE,
+                          GI_NORMAL_MIN_DOT);
+}
+
+// Radiance a hit point sends back towards the querier, treating it as diffuse
+// (as Solari's world cache does: radiance = irradiance · base_colour / π).
+// Emission is not included (DI owns direct light). The one place the hit
+// radiance comes from: the world cache will take GI_HIT_RADIANCE 2.
+vec3 gi_hit_radiance(SurfacePoint s, vec3 ng, vec3 ns, inout uint rng) {
+  GpuMaterial m = scene_material(s.material);
+  vec3 diffuse = vec3(m.base_color_metallic) * (1.0 - m.base_color_metallic.w);
+  if (max3(diffuse) <= 0.0) return vec3(0.0);
+  vec3 spawn = offset_ray_origin(s.position, ng);
+#if GI_HIT_RADIANCE == 0
+  // Bevy's NO_WORLD_CACHE path: one light sample, direct light only.
+  vec3 l;
+  float dist;
+  vec3 le;
+  float pdf;
+  if (!sample_light(s.position, rng, l, dist, le, pdf) || dot(l, ng) <= 0.0) return vec3(0.0);
+  if (!light_sample_visible(s.position, spawn, l, dist)) return vec3(0.0);
+  return diffuse * INV_PI * le * max(dot(ns, l), 0.0) / pdf;
+#else
+  // One cosine-sampled direction, path traced on: diffuse · L_in (cos/π cancels the pdf).
+  vec3 l = to_world(sample_cosine_hemisphere(rng_next_vec2(rng)), ns);
+  if (dot(l, ng) <= 0.0) return vec3(0.0);
+  return diffuse * path_trace(spawn, l, rng, 32u);
+#endif
+}
+
+// Whether point `target` is visible from surface point p (geometric normal ng).
+bool gi_point_visible(vec3 p, vec3 ng, vec3 target) {
+  vec3 spawn = offset_ray_origin(p, ng);
+  vec3 to_target = target - spawn;
+  float dist = length(to_target);
+  return dist > 0.0 && dot(to_target, ng) > 0.0 && trace_unoccluded(spawn, to_target / dist, dist * (1.0 - 1e-3));
+}
+
+// Pairwise merge of the canonical reservoir c (surface pc, nc) with o, found
+// at another surface (po, no); jacobian rejection and statistics here.
+// c_visible_at_o: whether c's sample point is visible from o. The balance
+// heuristic needs p_o(x_c) with o's visibility, else c's sample keeps only
+// its share where o could not have produced it and GI comes out dark — the
+// mechanism of the DI bias (README), here for GI's spatial reuse.
+GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, GiReservoir o, vec3 po, vec3 no, bool c_visible_at_o, float u) {
+  bool o_valid = gi_reservoir_valid(o);
+  GiMergeInputs t;
+  t.j_co = 0.0;
+  if (o_valid) {
+    atomicAdd(gi_stats.merges, 1u);
+    float raw = gi_jacobian_raw(pc, po, o.sample_position.xyz, o.sample_normal.xyz);
+    if (!gi_finite(raw)) atomicAdd(gi_stats.nonfinite_jacobians, 1u);
+    t.j_co = gi_finite(raw) ? raw : 0.0;
+#if GI_JACOBIAN_REJECTION != 0
+    if (t.j_co > float(GI_JACOBIAN_REJECT)) {
+      atomicAdd(gi_stats.rejections, 1u);
+#if GI_CONSISTENT_MIS != 0
+      // Its sample is refused, its confidence still counts: the canonical
+      // sample's weight must be the same whatever o drew.
+      o.radiance.w = 0.0;
+      o_valid = false;
+#else
+      return c;  // Solari: the neighbour is skipped
+#endif
+    }
+#endif
+    if (o_valid) {
+      atomicMax(gi_stats.max_accepted_j_bits, floatBitsToUint(t.j_co));
+      atomicAdd(gi_stats.histogram[gi_jacobian_bin(t.j_co)], 1u);
+    }
+  }
+  bool c_valid = gi_reservoir_valid(c);
+  t.j_oc = c_valid ? gi_jacobian(po, pc, c.sample_position.xyz, c.sample_normal.xyz) : 0.0;
+  t.pc_xc = c_valid ? gi_target(c.radiance.rgb, c.sample_position.xyz, pc, nc) : 0.0;
+  t.po_xc = c_valid && c_visible_at_o ? gi_target(c.radiance.rgb, c.sample_position.xyz, po, no) : 0.0;
+#if GI_CONSISTENT_MIS != 0 && GI_JACOBIAN_REJECTION != 0
+  // o could have produced c's sample only through a shift of jacobian
+  // 1/J_oc, refused above the threshold: then it has no share of it.
+  if (!(t.j_oc * float(GI_JACOBIAN_REJECT) >= 1.0)) t.po_xc = 0.0;
+#endif
+  t.po_xo = o_valid ? gi_target(o.radiance.rgb, o.sample_position.xyz, po, no) : 0.0;
+  t.pc_xo = o_valid ? gi_target(o.radiance.rgb, o.sample_position.xyz, pc, nc) : 0.0;
+  return merge_gi_reservoirs(c, o, t, u).merged;
+}

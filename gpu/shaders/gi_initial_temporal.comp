@@ -1,0 +1,72 @@
+// ReSTIR GI, dispatch 1 of 2 (DESIGN §3 step 7): the initial sample — one
+// uniform-hemisphere ray; a miss or an emissive hit gives an empty reservoir
+// (M = 1, W = 0), else radiance = gi_hit_radiance(hit), W = 2π, M = 1 — then
+// temporal reuse of last frame's stored reservoir through the motion vector,
+// the reprojected pixel permuted within 4×4 blocks (GI_TEMPORAL_PERMUTATION),
+// rejected when the surfaces differ, confidence capped at GI_CONFIDENCE_CAP,
+// merged with jacobians (gi_common.glsl gi_merge). z indexes the chain.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "gpu/shaders/scene_bindings.glsl"
+#include "gpu/shaders/gi_common.glsl"
+
+layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
+
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_STORED) readonly buffer Stored { GiReservoir stored_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_MID) writeonly buffer Mid { GiReservoir mid_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_GI_SURFACES) readonly buffer Surfaces { GiSurface surfaces[]; };
+
+void main() {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  uint chain = gl_GlobalInvocationID.z;
+  if (any(greaterThanEqual(pixel, resolution))) return;
+  uint index = pixel.y * resolution.x + pixel.x;
+  uint pixels = resolution.x * resolution.y;
+  uint slot = chain * pixels + index;
+  GiPixel d = gi_pixel(pixel);
+  if (!d.hit) {
+    mid_reservoirs[slot] = empty_gi_reservoir(0.0);
+    return;
+  }
+  uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_GI_INITIAL + chain, index, frame.resolution_frame.z);
+
+  // Initial sample.
+  GiReservoir canonical = empty_gi_reservoir(1.0);
+  vec3 dir = to_world(sample_uniform_hemisphere(rng_next_vec2(rng)), d.ns);
+  if (dot(dir, d.ng) > 0.0) {
+    Hit hit;
+    if (trace_closest(offset_ray_origin(d.position, d.ng), dir, float(GI_RAY_TMAX), hit)) {
+      SurfacePoint s = surface_at_hit(hit);
+      bool front = dot(dir, s.geometric_normal) < 0.0;
+      if (!(front && max3(s.emissive) > 0.0)) {
+        vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
+        vec3 ns = dot(s.shading_normal, ng) < 0.0 ? -s.shading_normal : s.shading_normal;
+        canonical.sample_position.xyz = s.position;
+        canonical.sample_normal.xyz = ng;
+        canonical.radiance = vec4(gi_hit_radiance(s, ng, ns, rng), TWO_PI);
+      }
+    }
+  }
+
+  // Temporal reuse.
+  if (push.history_valid != 0u && d.motion.z > 0.0) {
+    ivec2 q = ivec2(floor(vec2(pixel) + vec2(0.5) + d.motion.xy));
+    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
+#if GI_TEMPORAL_PERMUTATION != 0
+      q = gi_permute_pixel(q, push.permutation, ivec2(resolution));
+#endif
+      uint q_index = uint(q.y) * resolution.x + uint(q.x);
+      GiSurface s = surfaces[q_index];
+      if (s.position_view_z.w > 0.0 && !gi_dissimilar(d, s.position_view_z.xyz, s.normal.xyz)) {
+        GiReservoir temporal = stored_reservoirs[chain * pixels + q_index];
+        temporal.sample_position.w = min(temporal.sample_position.w, float(GI_CONFIDENCE_CAP));
+        // Last frame's surface is this pixel's (or a permuted neighbour's, at most
+        // 3 px away, similar by pixel_dissimilar): visibility is assumed, as in Solari.
+        canonical = gi_merge(canonical, d.position, d.ns, temporal, s.position_view_z.xyz, s.normal.xyz, true,
+                             rng_next_float(rng));
+      }
+    }
+  }
+  mid_reservoirs[slot] = canonical;
+}

@@ -1,0 +1,86 @@
+// ReSTIR GI, dispatch 2 of 2 (DESIGN §3 step 7): spatial reuse of one
+// neighbour (a random pixel in a GI_SPATIAL_RADIUS disk, up to GI_SPATIAL_TRIES
+// tries for a similar surface), its sample tested for visibility from this
+// pixel, merged with jacobians; the result is stored for next frame and for
+// specular GI; then diffuse shading (metallic pixels have no diffuse lobe):
+//   GI = diffuse/π · radiance · W · cos.
+// Also writes this pixel's surface for next frame's temporal reuse, and
+// counts non-finite reservoirs and output pixels (GiStats).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "gpu/shaders/scene_bindings.glsl"
+#include "gpu/shaders/gi_common.glsl"
+
+layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
+
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_STORED) writeonly buffer Stored { GiReservoir stored_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_MID) readonly buffer Mid { GiReservoir mid_reservoirs[]; };
+layout(std430, set = 0, binding = BINDING_GI_SURFACES) writeonly buffer Surfaces { GiSurface surfaces[]; };
+layout(std430, set = 0, binding = BINDING_GI_OUTPUT) writeonly buffer Output { vec4 gi_output[]; };
+layout(std430, set = 0, binding = BINDING_GI_ACCUMULATION) buffer Accumulation { vec4 gi_accumulation[]; };
+
+void main() {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  uint chain = gl_GlobalInvocationID.z;
+  if (any(greaterThanEqual(pixel, resolution))) return;
+  uint index = pixel.y * resolution.x + pixel.x;
+  uint pixels = resolution.x * resolution.y;
+  uint slot = chain * pixels + index;
+  GiPixel d = gi_pixel(pixel);
+  vec3 color = vec3(0.0);
+
+  if (!d.hit) {
+    stored_reservoirs[slot] = empty_gi_reservoir(0.0);
+  } else {
+    uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_GI_SPATIAL + chain, index, frame.resolution_frame.z);
+    GiReservoir canonical = mid_reservoirs[slot];
+
+    int neighbour = -1;
+    GiPixel n;
+    for (uint attempt = 0u; attempt < uint(GI_SPATIAL_TRIES); ++attempt) {
+      vec2 u = rng_next_vec2(rng);
+      float r = float(GI_SPATIAL_RADIUS) * sqrt(u.x);
+      float phi = TWO_PI * u.y;
+      ivec2 q = ivec2(pixel) + ivec2(round(vec2(r * cos(phi), r * sin(phi))));
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(resolution))) || q == ivec2(pixel)) continue;
+      GiPixel candidate = gi_pixel(uvec2(q));
+      if (!candidate.hit || gi_dissimilar(d, candidate.position, candidate.ns)) continue;
+      neighbour = q.y * int(resolution.x) + q.x;
+      n = candidate;
+      break;
+    }
+    if (neighbour >= 0) {
+      GiReservoir other = mid_reservoirs[chain * pixels + uint(neighbour)];
+      // The neighbour's point must be visible from here (its confidence still
+      // counts), and this pixel's from the neighbour for the MIS weights
+      // (GI_CONSISTENT_MIS; 0: Solari's visibility-free weights, dark).
+      if (gi_reservoir_valid(other) && !gi_point_visible(d.position, d.ng, other.sample_position.xyz))
+        other.radiance.w = 0.0;
+      bool canonical_visible_at_other = true;
+#if GI_CONSISTENT_MIS != 0
+      if (gi_reservoir_valid(canonical))
+        canonical_visible_at_other = gi_point_visible(n.position, n.ng, canonical.sample_position.xyz);
+#endif
+      canonical = gi_merge(canonical, d.position, d.ns, other, n.position, n.ns, canonical_visible_at_other,
+                           rng_next_float(rng));
+    }
+    if (!gi_reservoir_finite(canonical)) atomicAdd(gi_stats.nonfinite_reservoirs, 1u);
+    stored_reservoirs[slot] = canonical;
+
+    if (gi_reservoir_valid(canonical)) {
+      vec3 wi = normalize(canonical.sample_position.xyz - d.position);
+      color = d.diffuse * INV_PI * canonical.radiance.rgb * canonical.radiance.w * max(dot(d.ns, wi), 0.0);
+    }
+  }
+
+  if (chain == 0u) {
+    GiSurface s;
+    s.position_view_z = vec4(d.position, d.hit ? max(d.view_z, 1e-20) : 0.0);
+    s.normal = vec4(d.ns, 0.0);
+    surfaces[index] = s;
+  }
+  if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);
+  gi_output[slot] = vec4(color, d.hit ? 1.0 : 0.0);
+  if (push.accumulate != 0u) gi_accumulation[slot] += vec4(color, 1.0);
+}

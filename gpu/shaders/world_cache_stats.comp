@@ -1,0 +1,40 @@
+// End-of-frame statistics for the checks (DESIGN §6; integer atomics, so the
+// figures are the same at any thread count): live and sampled cells, the
+// fixed-point radiance sum, and — with root-frame instrumentation — cells
+// older than lifetime + 1 frames since their last pixel-rooted refresh.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "core/shared/scene_types.h"
+#include "gpu/shaders/bindings.h"
+#include "gpu/shaders/world_cache_common.glsl"
+
+layout(std140, set = 0, binding = BINDING_FRAME) uniform Frame { FrameConstants frame; };
+
+layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
+
+void main() {
+  uint cell = gl_GlobalInvocationID.x;
+  if (cell >= uint(WORLD_CACHE_CELLS)) return;
+  uint life = wc_life[cell];
+  if (life == 0u) {
+    if (wc_checksums[cell] != WORLD_CACHE_EMPTY_CELL) atomicAdd(wc_stats.dead_not_empty, 1u);
+    return;
+  }
+  atomicAdd(wc_stats.live_cells, 1u);
+  if (life > uint(WORLD_CACHE_LIFETIME)) atomicAdd(wc_stats.life_out_of_range, 1u);
+  vec4 r = wc_radiance[cell];
+  if (any(isnan(r)) || any(isinf(r))) {
+    atomicAdd(wc_stats.nonfinite_cells, 1u);
+  } else if (r.w > 0.0) {
+    atomicAdd(wc_stats.sampled_cells, 1u);
+    uint v = uint(min(luminance(r.rgb) * WORLD_CACHE_STATS_SCALE, 2147483647.0));
+    uint old = atomicAdd(wc_stats.radiance_sum_lo, v);
+    if (old + v < old) atomicAdd(wc_stats.radiance_sum_hi, 1u);
+  }
+#ifdef WORLD_CACHE_ROOT_FRAME
+  uint age = world_cache_age(frame.resolution_frame.z, wc_root_frame[cell]);
+  atomicMax(wc_stats.oldest_age, age);
+  if (!world_cache_age_ok(frame.resolution_frame.z, wc_root_frame[cell], uint(WORLD_CACHE_LIFETIME)))
+    atomicAdd(wc_stats.over_age_cells, 1u);
+#endif
+}

@@ -1,0 +1,156 @@
+#include "replay/checks/blend_lag_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace gi {
+
+BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario) {
+  BlendLagParams p;
+  const std::string file = scenario.file.string();
+  const nlohmann::json& j = spec.params;
+  auto number = [&](const char* key, double lo, double hi, double& out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number() || j[key].get<double>() < lo || j[key].get<double>() > hi)
+      throw InputError(file, spec.json_path + "/" + key, fmt::format("expected a number in [{}, {}]", lo, hi));
+    out = j[key].get<double>();
+  };
+  auto count = [&](const char* key, std::uint32_t lo, std::uint32_t& out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number_unsigned() || j[key].get<std::uint64_t>() < lo || j[key].get<std::uint64_t>() > 1000000)
+      throw InputError(file, spec.json_path + "/" + key, fmt::format("expected a frame count of at least {}", lo));
+    out = j[key].get<std::uint32_t>();
+  };
+  number("epsilon", 0.0, 1.0, p.epsilon);
+  number("delta", 0.0, 1.0, p.delta);
+  count("lag_limit", 0, p.lag_limit);
+  count("steady_frames", 1, p.steady_frames);
+  if (j.contains("signals")) {
+    const std::vector<std::string> known = {"cache_view_luminance", "cache_mean_radiance"};
+    const nlohmann::json& s = j["signals"];
+    const std::string path = spec.json_path + "/signals";
+    if (!s.is_array() || s.empty()) throw InputError(file, path, "expected a non-empty array of signal names");
+    p.signals.clear();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (!s[i].is_string() || std::find(known.begin(), known.end(), s[i].get<std::string>()) == known.end())
+        throw InputError(file, path + "/" + std::to_string(i),
+                         "expected \"cache_view_luminance\" or \"cache_mean_radiance\"");
+      p.signals.push_back(s[i].get<std::string>());
+    }
+  }
+  return p;
+}
+
+std::vector<std::uint32_t> lighting_event_frames(const Scenario& scenario) {
+  std::set<std::uint32_t> frames;
+  for (const Event& e : scenario.events)
+    if (e.type == EventType::LightOn || e.type == EventType::LightOff || e.type == EventType::LightIntensity ||
+        e.type == EventType::LightColor)
+      frames.insert(e.first);
+  return {frames.begin(), frames.end()};
+}
+
+namespace {
+
+double mean_of(const std::vector<double>& v, std::size_t begin, std::size_t end) {
+  double s = 0.0;
+  for (std::size_t i = begin; i < end; ++i) s += v[i];
+  return end > begin ? s / double(end - begin) : 0.0;
+}
+
+}  // namespace
+
+CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std::uint32_t>& event_frames,
+                            const std::vector<BlendLagSignal>& signals) {
+  CheckResult c;
+  c.name = "blend_lag";
+  c.limits = {{"lag_frames", params.lag_limit}, {"epsilon", params.epsilon}, {"delta", params.delta},
+              {"steady_frames", params.steady_frames}};
+  std::vector<std::string> failures;
+  std::optional<std::uint32_t> first;
+  auto fail_at = [&](std::uint32_t f) {
+    if (!first || f < *first) first = f;
+  };
+  std::uint32_t max_lag = 0;
+  double max_variation = 0.0;
+  nlohmann::json events = nlohmann::json::array();
+  const std::size_t n = signals.empty() ? 0 : signals[0].values.size();
+  const std::uint32_t K = params.steady_frames;
+  // Window boundaries: 0, each event, the end.
+  std::vector<std::size_t> bounds = {0};
+  for (std::uint32_t f : event_frames)
+    if (f > 0 && f < n) bounds.push_back(f);
+  bounds.push_back(n);
+
+  for (const BlendLagSignal& sig : signals) {
+    if (std::find(params.signals.begin(), params.signals.end(), sig.name) == params.signals.end()) continue;
+    const std::vector<double>& s = sig.values;
+    for (std::size_t w = 0; w + 1 < bounds.size(); ++w) {
+      const std::size_t begin = bounds[w], end = bounds[w + 1];
+      if (end - begin < std::size_t(K) + 1) {
+        failures.push_back(fmt::format("{}: window [{}, {}) is shorter than steady_frames + 1 = {}", sig.name, begin,
+                                       end, K + 1));
+        fail_at(std::uint32_t(begin));
+        continue;
+      }
+      const double level_new = mean_of(s, end - K, end);
+      double level = std::abs(level_new);
+      if (w > 0) {
+        // The step: how long until the signal stays in the band around its new level.
+        const double level_old = mean_of(s, std::max<std::size_t>(bounds[w - 1], begin - K), begin);
+        level = std::max(std::abs(level_old), std::abs(level_new));
+        const double band = params.epsilon * level;
+        // The earliest frame from which every later frame of the window is in the band.
+        std::size_t settled = end;
+        for (std::size_t t = end; t-- > begin;) {
+          if (std::abs(s[t] - level_new) > band) break;
+          settled = t;
+        }
+        // Still moving through its own steady frames: no steady state was reached.
+        const bool never = settled > end - K;
+        const std::uint32_t lag = never ? std::uint32_t(end - begin) : std::uint32_t(settled - begin);
+        max_lag = std::max(max_lag, lag);
+        events.push_back({{"frame", begin}, {"signal", sig.name}, {"lag_frames", lag}, {"settled", !never},
+                          {"level_before", level_old}, {"level_after", level_new}});
+        if (never || lag > params.lag_limit) {
+          failures.push_back(never ? fmt::format("{}: not settled within {} frames of the event at frame {} "
+                                                 "({:.4g} → {:.4g})",
+                                                 sig.name, end - begin, begin, level_old, level_new)
+                                   : fmt::format("{}: lag {} frames after the event at frame {} > {} ({:.4g} → {:.4g})",
+                                                 sig.name, lag, begin, params.lag_limit, level_old, level_new));
+          fail_at(std::uint32_t(begin + params.lag_limit + 1));
+        }
+      }
+      // Stability once settled.
+      const double allowed = params.delta * level;
+      for (std::size_t t = begin + params.lag_limit + 1; t < end; ++t) {
+        const double v = std::abs(s[t] - s[t - 1]);
+        const double relative = level > 0.0 ? v / level : (v > 0.0 ? INFINITY : 0.0);
+        max_variation = std::max(max_variation, relative);
+        if (v > allowed) {
+          failures.push_back(fmt::format("{}: frame-to-frame change {:.3g} ({:.2f}% of the level) at frame {} > δ = "
+                                         "{:.2f}%",
+                                         sig.name, v, 100.0 * relative, t, 100.0 * params.delta));
+          fail_at(std::uint32_t(t));
+          break;
+        }
+      }
+    }
+  }
+  c.figures = {{"max_lag_frames", max_lag}, {"max_static_variation", max_variation}, {"events", events}};
+  c.first_failing_frame = first;
+  c.verdict = failures.empty() ? Verdict::pass : Verdict::fail;
+  if (failures.empty())
+    c.message = fmt::format("settled within {} frames of every lighting event (limit {}); static variation ≤ {:.2f}%",
+                            max_lag, params.lag_limit, 100.0 * max_variation);
+  else
+    for (std::size_t i = 0; i < failures.size(); ++i) c.message += (i ? "; " : "") + failures[i];
+  return c;
+}
+
+}  // namespace gi

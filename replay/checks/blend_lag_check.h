@@ -1,0 +1,47 @@
+// The blend_lag check (DESIGN §6): how fast the world cache follows a lighting
+// change, and how still it holds when nothing changes. Two per-frame signals:
+// the mean luminance of the cache view (irradiance the cache gives the
+// pixels' surfaces) and the mean cache radiance (over sampled cells).
+//
+// The scenario's lighting events (light_on/off/intensity/colour) cut the run
+// into windows. In each window after an event, the new steady state is the
+// mean of the window's last `steady_frames`; the lag is the frames from the
+// event until the signal stays within ε · max(|old|, |new|) of it (old: the
+// mean of the `steady_frames` before the event). Passes when every lag ≤
+// `lag_limit` and, in every window from `lag_limit` frames after its start
+// on, |s(t) − s(t − 1)| ≤ δ · that window's level.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/scenario.h"
+#include "replay/checks/check_result.h"
+
+namespace gi {
+
+struct BlendLagParams {
+  double epsilon = 0.05;            // settling band, relative to the larger of the two levels
+  double delta = 0.02;              // frame-to-frame variation in static windows, relative to the level
+  std::uint32_t lag_limit = 10;     // frames
+  std::uint32_t steady_frames = 8;  // frames averaged for a steady state
+  // The signals judged (both are recorded per frame either way).
+  std::vector<std::string> signals = {"cache_view_luminance", "cache_mean_radiance"};
+};
+
+// Defaults, then the check's params; InputError naming the JSON path.
+BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario);
+
+// Frames at which a lighting event starts (sorted, unique).
+std::vector<std::uint32_t> lighting_event_frames(const Scenario& scenario);
+
+struct BlendLagSignal {
+  std::string name;            // "cache_view_luminance", "cache_mean_radiance"
+  std::vector<double> values;  // one per frame from 0
+};
+
+// The verdict over whole runs of both signals (pure: the tests feed it curves).
+CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std::uint32_t>& event_frames,
+                            const std::vector<BlendLagSignal>& signals);
+
+}  // namespace gi

@@ -1,0 +1,163 @@
+#include "replay/checks/determinism_check.h"
+
+#include <fstream>
+#include <map>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "replay/capture.h"
+
+namespace gi {
+namespace {
+
+using FrameHashes = std::vector<std::pair<std::string, std::string>>;  // (buffer, hash) in list order
+
+std::map<std::uint32_t, FrameHashes> read_hash_log(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "", "a buffer hash log (buffer_hashes.jsonl / run_hashes.jsonl)");
+  std::map<std::uint32_t, FrameHashes> log;
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    try {
+      const nlohmann::json j = nlohmann::json::parse(line);
+      FrameHashes& frame = log[j.at("frame").get<std::uint32_t>()];
+      frame.clear();  // a later record of the same frame (e.g. restored, then re-rendered) wins
+      for (const nlohmann::json& b : j.at("buffers")) frame.emplace_back(b.at(0).get<std::string>(), b.at(1).get<std::string>());
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file.string(), fmt::format("line {}", n),
+                       std::string("{\"frame\": F, \"buffers\": [[name, hash], …]} (") + e.what() + ")");
+    }
+  }
+  return log;
+}
+
+std::vector<std::string> differing_buffers(const FrameHashes& original, const FrameHashes& candidate) {
+  std::map<std::string, std::string> want(original.begin(), original.end());
+  std::vector<std::string> out;
+  for (const auto& [name, hash] : candidate) {
+    const auto it = want.find(name);
+    if (it == want.end()) out.push_back(name + " (missing in the original)");
+    else if (it->second != hash) out.push_back(name);
+    if (it != want.end()) want.erase(it);
+  }
+  for (const auto& [name, hash] : original)
+    if (want.count(name)) out.push_back(name + " (missing in the candidate)");
+  return out;
+}
+
+}  // namespace
+
+std::string HashLogComparison::describe() const {
+  if (frames_compared == 0) return "no frame in common with the original run's hashes: nothing verified";
+  if (!first) return fmt::format("{} frames bit-identical in every buffer", frames_compared);
+  std::string names;
+  for (const std::string& b : first->buffers) names += (names.empty() ? "" : ", ") + b;
+  return fmt::format("first divergence at frame {}: {} ({} of {} frames differ)", first->frame, names,
+                     divergent_frames, frames_compared);
+}
+
+nlohmann::json HashLogComparison::to_json() const {
+  nlohmann::json j = {{"frames_compared", frames_compared},
+                      {"divergent_frames", divergent_frames},
+                      {"unmatched_frames", unmatched_frames}};
+  j["first_divergent_frame"] = first ? nlohmann::json(first->frame) : nlohmann::json(nullptr);
+  j["first_divergent_buffers"] = first ? nlohmann::json(first->buffers) : nlohmann::json::array();
+  return j;
+}
+
+HashLogComparison compare_hash_logs(const std::filesystem::path& original, const std::filesystem::path& candidate) {
+  const auto want = read_hash_log(original);
+  const auto got = read_hash_log(candidate);
+  HashLogComparison c;
+  for (const auto& [frame, hashes] : got) {  // std::map: ascending frames, so `first` is the earliest
+    const auto it = want.find(frame);
+    if (it == want.end()) {
+      ++c.unmatched_frames;
+      continue;
+    }
+    ++c.frames_compared;
+    std::vector<std::string> diff = differing_buffers(it->second, hashes);
+    if (diff.empty()) continue;
+    ++c.divergent_frames;
+    if (!c.first) c.first = Divergence{frame, std::move(diff)};
+  }
+  return c;
+}
+
+DeterminismParams determinism_params(const CheckSpec& spec, const Scenario& scenario, std::uint32_t frames) {
+  DeterminismParams p;
+  const std::string file = scenario.file.string();
+  if (spec.params.contains("second_run")) {
+    if (!spec.params["second_run"].is_boolean())
+      throw InputError(file, spec.json_path + "/second_run", "expected true or false");
+    p.second_run = spec.params["second_run"].get<bool>();
+  }
+  if (frames >= 2) p.snapshot_frame = frames / 2 - 1;  // replays the second half
+  if (spec.params.contains("snapshot_frame")) {
+    const nlohmann::json& f = spec.params["snapshot_frame"];
+    if (f.is_null()) {
+      p.snapshot_frame.reset();
+    } else if (!f.is_number_unsigned() || f.get<std::uint64_t>() + 1 >= frames) {
+      throw InputError(file, spec.json_path + "/snapshot_frame",
+                       fmt::format("expected null or a frame below {} (the replay needs a frame after it)",
+                                   frames - 1));
+    } else {
+      p.snapshot_frame = f.get<std::uint32_t>();
+    }
+  }
+  if (!p.second_run && !p.snapshot_frame)
+    throw InputError(file, spec.json_path, "a second run, a snapshot frame, or both (else nothing is compared)");
+  return p;
+}
+
+CheckResult run_determinism_check(const Scenario& scenario, const RunOptions& main_run, const DeterminismParams& params) {
+  // The repeats run the same pipeline (every other check kept: they choose
+  // passes and chains) without this check, its snapshot or extra captures.
+  Scenario repeat = scenario;
+  std::erase_if(repeat.checks, [](const CheckSpec& c) { return c.name == "determinism"; });
+  repeat.capture.clear();
+  RunOptions base = main_run;
+  base.capture.clear();
+  base.capture_failures = false;
+  base.record_hashes = true;
+  base.quiet = true;
+  base.resume_from.clear();
+  const std::filesystem::path original = main_run.out_dir / "buffer_hashes.jsonl";
+
+  CheckResult r;
+  r.name = "determinism";
+  r.verdict = Verdict::pass;
+  std::vector<std::string> lines;
+  auto judge = [&](const char* what, const std::filesystem::path& out) {
+    const HashLogComparison cmp = compare_hash_logs(original, out / "buffer_hashes.jsonl");
+    r.figures[what] = cmp.to_json();
+    lines.push_back(fmt::format("{}: {}", what, cmp.describe()));
+    r.evidence.push_back(std::filesystem::relative(out / "buffer_hashes.jsonl", main_run.out_dir).string());
+    if (cmp.first && (!r.first_failing_frame || cmp.first->frame < *r.first_failing_frame))
+      r.first_failing_frame = cmp.first->frame;
+    if (cmp.first) r.verdict = Verdict::fail;
+    else if (cmp.frames_compared == 0 && r.verdict == Verdict::pass) r.verdict = Verdict::inconclusive;
+  };
+  if (params.second_run) {
+    RunOptions o = base;
+    o.out_dir = main_run.out_dir / "determinism/second_run";
+    run_scenario(repeat, o);
+    judge("second_run", o.out_dir);
+  }
+  if (params.snapshot_frame) {
+    RunOptions o = base;
+    o.out_dir = main_run.out_dir / "determinism/replay";
+    o.resume_from = main_run.out_dir / capture_folder(*params.snapshot_frame);
+    run_scenario(repeat, o);
+    judge("replay", o.out_dir);
+  }
+  r.limits = {{"differing_buffers", 0}};
+  if (params.snapshot_frame) r.limits["snapshot_frame"] = *params.snapshot_frame;
+  for (const std::string& l : lines) r.message += (r.message.empty() ? "" : "; ") + l;
+  return r;
+}
+
+}  // namespace gi
