@@ -35,41 +35,57 @@ bool contains(const glm::vec3& lo, const glm::vec3& hi, const Aabb& b) {
   return glm::all(glm::lessThanEqual(lo, b.lo)) && glm::all(glm::lessThanEqual(b.hi, hi));
 }
 
-// Walks the tree: every primitive sits in exactly one leaf, inside the box its
-// parent stores for that leaf, and every subtree's boxes nest.
-void check_tree(const gi::bvh::BuiltBvh& tree, const std::vector<Aabb>& boxes) {
-  std::multiset<std::uint32_t> seen;
-  struct Item {
-    std::uint32_t node;
-    glm::vec3 lo, hi;
-  };
-  std::vector<Item> stack = {{0, glm::vec3(-1e30f), glm::vec3(1e30f)}};
-  while (!stack.empty()) {
-    const Item it = stack.back();
-    stack.pop_back();
-    const BvhNode& n = tree.nodes.at(it.node);
-    const glm::vec3 los[2] = {n.left_min, n.right_min}, his[2] = {n.left_max, n.right_max};
-    const std::uint32_t refs[2] = {n.left_ref, n.right_ref}, counts[2] = {n.left_count, n.right_count};
-    for (int c = 0; c < 2; ++c) {
-      if (gi::shader::bvh_child_empty(refs[c], counts[c])) continue;
-      Aabb child;
-      child.lo = los[c];
-      child.hi = his[c];
-      EXPECT_TRUE(contains(it.lo, it.hi, child));
-      if (counts[c] == 0) {
-        stack.push_back({refs[c], los[c], his[c]});
-        continue;
-      }
-      for (std::uint32_t k = refs[c]; k < refs[c] + counts[c]; ++k) {
-        const std::uint32_t prim = tree.order.at(k);
-        seen.insert(prim);
-        EXPECT_TRUE(contains(los[c], his[c], boxes[prim])) << "primitive " << prim;
-      }
+// Child c's box as the traversal dequantises it (bvh_ray_box4).
+Aabb child_box(const BvhNode& n, int c) {
+  Aabb b;
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const float step = gi::shader::bvh_grid_step(n.scale_bits, k);
+    b.lo[k] = n.origin[k] + float((n.q_lo[k] >> (8 * c)) & 0xffu) * step;
+    b.hi[k] = n.origin[k] + float((n.q_hi[k] >> (8 * c)) & 0xffu) * step;
+  }
+  return b;
+}
+
+// Walks the 4-wide tree: every primitive sits in exactly one leaf, inside the
+// (quantised, so only conservative) box of every node on its path. Returns
+// the deepest stack the traversal could use, as the builder bounds it.
+std::uint32_t check_tree(const gi::bvh::BuiltBvh& tree, const std::vector<Aabb>& boxes, std::uint32_t node = 0,
+                         glm::vec3 lo = glm::vec3(-1e30f), glm::vec3 hi = glm::vec3(1e30f),
+                         std::multiset<std::uint32_t>* seen = nullptr) {
+  std::multiset<std::uint32_t> own;
+  if (!seen) seen = &own;
+  const BvhNode& n = tree.nodes.at(node);
+  std::uint32_t inner = 0, deepest = 0;
+  bool empty_seen = false;
+  for (int c = 0; c < 4; ++c) {
+    const std::uint32_t ch = n.child[c];
+    if (ch == gi::shader::BVH_CHILD_EMPTY) {
+      empty_seen = true;
+      continue;
+    }
+    EXPECT_FALSE(empty_seen) << "empty slots come last";
+    const Aabb b = child_box(n, c);
+    const glm::vec3 clo = glm::max(lo, b.lo), chi = glm::min(hi, b.hi);  // every ancestor's box
+    if (!gi::shader::bvh_is_leaf(ch)) {
+      ++inner;
+      deepest = std::max(deepest, check_tree(tree, boxes, ch, clo, chi, seen));
+      continue;
+    }
+    const std::uint32_t first = gi::shader::bvh_leaf_first(ch);
+    for (std::uint32_t k = first; k < first + gi::shader::bvh_leaf_count(ch); ++k) {
+      const std::uint32_t prim = tree.order.at(k);
+      seen->insert(prim);
+      EXPECT_TRUE(contains(clo, chi, boxes[prim])) << "primitive " << prim;
     }
   }
-  ASSERT_EQ(seen.size(), boxes.size());
-  std::uint32_t expect = 0;
-  for (std::uint32_t p : seen) EXPECT_EQ(p, expect++) << "every primitive exactly once";
+  const std::uint32_t need = (inner > 0 ? inner - 1 : 0) + deepest;
+  if (seen == &own) {
+    EXPECT_EQ(need, tree.stack_need);
+    EXPECT_EQ(seen->size(), boxes.size());
+    std::uint32_t expect = 0;
+    for (std::uint32_t p : *seen) EXPECT_EQ(p, expect++) << "every primitive exactly once";
+  }
+  return need;
 }
 
 std::vector<Aabb> triangle_boxes(const gi::Mesh& mesh) {
@@ -85,15 +101,31 @@ TEST(BvhBuilder, EveryTriangleInOneLeafInsideNestedBoxes) {
   const std::vector<Aabb> boxes = triangle_boxes(gi::make_cliff_mesh(o));
   const gi::bvh::BuiltBvh tree = gi::bvh::build_bvh(boxes);
   check_tree(tree, boxes);
-  EXPECT_LE(tree.depth, gi::shader::BVH_BLAS_STACK_SIZE);
-  EXPECT_GT(tree.nodes.size(), boxes.size() / 8) << "leaves hold at most a few triangles";
+  EXPECT_LE(tree.stack_need, gi::shader::BVH_BLAS_STACK_SIZE);
+  EXPECT_GT(tree.nodes.size(), boxes.size() / 32) << "leaves hold at most a few triangles";
+  // Quantised boxes stay tight: leaf boxes are on average barely larger than
+  // the boxes of their triangles, so traversal visits few extra nodes.
+  double stored_area = 0.0, true_area = 0.0;
+  for (const BvhNode& n : tree.nodes)
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t ch = n.child[c];
+      if (ch == gi::shader::BVH_CHILD_EMPTY || !gi::shader::bvh_is_leaf(ch)) continue;
+      Aabb contents;
+      const std::uint32_t first = gi::shader::bvh_leaf_first(ch);
+      for (std::uint32_t k = first; k < first + gi::shader::bvh_leaf_count(ch); ++k)
+        contents.grow(boxes[tree.order[k]]);
+      stored_area += child_box(n, c).half_area();
+      true_area += contents.half_area();
+    }
+  std::printf("leaf box area: quantised / exact = %.4f\n", stored_area / true_area);
+  EXPECT_LT(stored_area, 1.25 * true_area);
 }
 
 TEST(BvhBuilder, SmallAndDegenerateInputs) {
-  // Empty: one root with two empty children.
+  // Empty: one root whose children are all empty.
   const gi::bvh::BuiltBvh empty = gi::bvh::build_bvh({});
   ASSERT_EQ(empty.nodes.size(), 1u);
-  EXPECT_TRUE(gi::shader::bvh_child_empty(empty.nodes[0].left_ref, empty.nodes[0].left_count));
+  EXPECT_EQ(empty.nodes[0].child, glm::uvec4(gi::shader::BVH_CHILD_EMPTY));
   // One primitive: a root with the leaf on the left.
   std::vector<Aabb> one(1);
   one[0].grow(glm::vec3(0.0f));
@@ -104,6 +136,17 @@ TEST(BvhBuilder, SmallAndDegenerateInputs) {
   const gi::bvh::BuiltBvh tree = gi::bvh::build_bvh(same);
   check_tree(tree, same);
   EXPECT_LE(tree.depth, 12u);
+  // Boxes far from the origin, tiny and huge, all quantise conservatively.
+  std::vector<Aabb> odd;
+  for (int i = 0; i < 200; ++i) {
+    Aabb b;
+    const float base = (i % 3 == 0 ? 1e6f : i % 3 == 1 ? -3.7e4f : 1e-3f) + 1.37f * float(i);
+    const float size = i % 4 == 0 ? 0.0f : i % 4 == 1 ? 1e-6f : i % 4 == 2 ? 0.5f : 1e4f;
+    b.grow(glm::vec3(base, -base, 0.5f * base));
+    b.grow(glm::vec3(base + size, -base + 0.3f * size, 0.5f * base - size));
+    odd.push_back(b);
+  }
+  check_tree(gi::bvh::build_bvh(odd), odd);
 }
 
 TEST(BvhBuilder, SameInputSameBytes) {

@@ -1,6 +1,7 @@
 #include "core/bvh/bvh_builder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -9,6 +10,10 @@
 
 namespace gi::bvh {
 namespace {
+
+// Recursion guard of the binary build (the traversal stack is checked on the
+// collapsed tree).
+constexpr std::uint32_t kMaxBinaryDepth = 128;
 
 struct BuildNode {
   Aabb box;
@@ -28,7 +33,7 @@ class Builder {
   BuiltBvh run() {
     BuiltBvh out;
     if (boxes_.empty()) {
-      out.nodes.push_back(shader::BvhNode{});  // both children empty
+      out.nodes.push_back(empty_node());  // every child empty
       return out;
     }
     nodes_.push_back(BuildNode{});
@@ -37,6 +42,11 @@ class Builder {
     out.depth = depth_;
     out.order = order_;
     emit(out);
+    if (out.stack_need > o_.stack_size)
+      throw DeviceError(fmt::format("BVH over {} primitives needs {} traversal stack entries, more than {}",
+                                    boxes_.size(), out.stack_need, o_.stack_size));
+    if (order_.size() > shader::BVH_LEAF_FIRST_MASK)
+      throw DeviceError(fmt::format("BVH over {} primitives: more than a leaf reference holds", boxes_.size()));
     return out;
   }
 
@@ -56,9 +66,8 @@ class Builder {
     std::uint32_t mid = 0;
     const bool split = choose_split(box, cbox, first, count, mid);
     if (!split) return;  // leaf
-    if (depth + 1 > o_.max_depth)
-      throw DeviceError(fmt::format("BVH deeper than {} levels over {} primitives (traversal stack)", o_.max_depth,
-                                    boxes_.size()));
+    if (depth + 1 > kMaxBinaryDepth)
+      throw DeviceError(fmt::format("BVH deeper than {} levels over {} primitives", kMaxBinaryDepth, boxes_.size()));
     depth_ = std::max(depth_, depth + 1);
     const std::size_t left = nodes_.size();
     nodes_.push_back(BuildNode{});
@@ -139,39 +148,103 @@ class Builder {
     return std::min(b, o_.bins - 1);
   }
 
-  // Emits inner build nodes depth-first (left subtree first) as two-box nodes.
+  // Emits the binary tree collapsed to 4-wide nodes, depth-first. A node's
+  // children start as the binary node's two; while fewer than four, the inner
+  // child with the largest surface area (the first on ties) is replaced by its
+  // own two children, in place, so child order stays left-to-right.
   void emit(BuiltBvh& out) {
     const BuildNode& root = nodes_[0];
     if (root.left < 0) {  // the whole tree is one leaf
-      shader::BvhNode n{};
-      n.left_min = root.box.lo;
-      n.left_max = root.box.hi;
-      n.left_ref = root.first;
-      n.left_count = root.count;
+      shader::BvhNode n = empty_node();
+      set_boxes(n, &root.box, 1);
+      n.child[0] = shader::bvh_make_leaf(root.first, root.count);
       out.nodes.push_back(n);
       return;
     }
-    emit_inner(0, out);
+    out.stack_need = emit_inner(0, out);
   }
 
+  static shader::BvhNode empty_node() {
+    shader::BvhNode n{};
+    n.child = glm::uvec4(shader::BVH_CHILD_EMPTY);
+    return n;
+  }
+
+  // Quantises the boxes of n's children (boxes[c] for c < count) on a grid
+  // of their union (see bvh_types.h): origin its low corner, per axis the
+  // smallest power-of-two step that spans the extent in 252 steps, each lo
+  // plane rounded down and hi plane up, checked with the float arithmetic
+  // the traversal dequantises with.
+  static void set_boxes(shader::BvhNode& n, const Aabb* boxes, std::size_t count) {
+    Aabb all;
+    for (std::size_t c = 0; c < count; ++c) all.grow(boxes[c]);
+    n.origin = all.lo;
+    n.scale_bits = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double extent = double(all.hi[k]) - double(all.lo[k]);
+      int e = -100;  // steps stay normal floats: q * step is exact and never flushed
+      while (e < 127 && std::ldexp(252.0, e) < extent) ++e;
+      const std::uint32_t biased = std::uint32_t(e + 127);
+      n.scale_bits |= biased << (8 * k);
+      const float step = shader::bvh_grid_step(n.scale_bits, std::uint32_t(k));
+      const auto value = [&](std::uint32_t q) { return n.origin[k] + float(q) * step; };
+      std::uint32_t lo_bytes = 0, hi_bytes = 0;
+      for (std::size_t c = 0; c < count; ++c) {
+        const double lo_rel = (double(boxes[c].lo[k]) - double(n.origin[k])) / double(step);
+        const double hi_rel = (double(boxes[c].hi[k]) - double(n.origin[k])) / double(step);
+        std::uint32_t qlo = std::uint32_t(std::clamp(std::floor(lo_rel), 0.0, 255.0));
+        std::uint32_t qhi = std::uint32_t(std::clamp(std::ceil(hi_rel), 0.0, 255.0));
+        while (qlo > 0 && value(qlo) > boxes[c].lo[k]) --qlo;
+        while (qhi < 255 && value(qhi) < boxes[c].hi[k]) ++qhi;
+        if (value(qlo) > boxes[c].lo[k] || value(qhi) < boxes[c].hi[k])
+          throw DeviceError(fmt::format("BVH box quantisation failed on axis {} ({} .. {})", k, boxes[c].lo[k],
+                                        boxes[c].hi[k]));
+        lo_bytes |= qlo << (8 * c);
+        hi_bytes |= qhi << (8 * c);
+      }
+      n.q_lo[k] = lo_bytes;
+      n.q_hi[k] = hi_bytes;
+    }
+  }
+
+  // Returns the stack entries traversing this subtree can need: a node pushes
+  // all but one of its inner children, then descends into any of them.
   std::uint32_t emit_inner(std::size_t index, BuiltBvh& out) {
     const std::uint32_t slot = std::uint32_t(out.nodes.size());
-    out.nodes.push_back(shader::BvhNode{});
-    const BuildNode& b = nodes_[index];
-    const BuildNode& l = nodes_[b.left];
-    const BuildNode& r = nodes_[b.right];
-    const std::uint32_t left_ref = l.left < 0 ? l.first : emit_inner(b.left, out);
-    const std::uint32_t right_ref = r.left < 0 ? r.first : emit_inner(b.right, out);
-    shader::BvhNode& n = out.nodes[slot];
-    n.left_min = l.box.lo;
-    n.left_max = l.box.hi;
-    n.left_ref = left_ref;
-    n.left_count = l.left < 0 ? l.count : 0u;
-    n.right_min = r.box.lo;
-    n.right_max = r.box.hi;
-    n.right_ref = right_ref;
-    n.right_count = r.left < 0 ? r.count : 0u;
-    return slot;
+    out.nodes.push_back(empty_node());
+    std::vector<std::size_t> kids = {std::size_t(nodes_[index].left), std::size_t(nodes_[index].right)};
+    while (kids.size() < 4) {
+      int open = -1;
+      float area = -1.0f;
+      for (std::size_t k = 0; k < kids.size(); ++k) {
+        const BuildNode& b = nodes_[kids[k]];
+        if (b.left >= 0 && b.box.half_area() > area) {
+          area = b.box.half_area();
+          open = int(k);
+        }
+      }
+      if (open < 0) break;
+      const BuildNode& b = nodes_[kids[open]];
+      const std::size_t l = std::size_t(b.left), r = std::size_t(b.right);
+      kids[open] = l;
+      kids.insert(kids.begin() + open + 1, r);
+    }
+    shader::BvhNode n = empty_node();
+    Aabb boxes[4];
+    for (std::size_t k = 0; k < kids.size(); ++k) boxes[k] = nodes_[kids[k]].box;
+    set_boxes(n, boxes, kids.size());
+    std::uint32_t inner = 0, deepest = 0;
+    for (std::size_t k = 0; k < kids.size(); ++k) {
+      const BuildNode& b = nodes_[kids[k]];
+      if (b.left < 0) n.child[int(k)] = shader::bvh_make_leaf(b.first, b.count);
+      if (b.left >= 0) {
+        ++inner;
+        n.child[int(k)] = std::uint32_t(out.nodes.size());
+        deepest = std::max(deepest, emit_inner(kids[k], out));
+      }
+    }
+    out.nodes[slot] = n;
+    return (inner > 0 ? inner - 1 : 0) + deepest;
   }
 
   std::span<const Aabb> boxes_;
@@ -187,16 +260,26 @@ class Builder {
 BuiltBvh build_bvh(std::span<const Aabb> boxes, const BuildOptions& options) {
   BuildOptions o = options;
   o.bins = std::max<std::uint32_t>(o.bins, 2);
-  o.max_leaf_size = std::max<std::uint32_t>(o.max_leaf_size, 1);
+  o.max_leaf_size = std::clamp<std::uint32_t>(o.max_leaf_size, 1, shader::BVH_MAX_LEAF_SIZE);
   return Builder(boxes, o).run();
 }
 
 void append_relocated(const BuiltBvh& tree, std::uint32_t node_base, std::uint32_t leaf_base,
                       std::vector<shader::BvhNode>& out) {
   for (shader::BvhNode n : tree.nodes) {
-    if (!shader::bvh_child_empty(n.left_ref, n.left_count)) n.left_ref += n.left_count > 0 ? leaf_base : node_base;
-    if (!shader::bvh_child_empty(n.right_ref, n.right_count))
-      n.right_ref += n.right_count > 0 ? leaf_base : node_base;
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t ch = n.child[c];
+      if (ch == shader::BVH_CHILD_EMPTY) continue;
+      if (!shader::bvh_is_leaf(ch)) {
+        n.child[c] = ch + node_base;
+        continue;
+      }
+      const std::uint64_t first = std::uint64_t(shader::bvh_leaf_first(ch)) + leaf_base;
+      if (first >= shader::BVH_LEAF_FIRST_MASK)
+        throw DeviceError(fmt::format("BVH leaf reference {} out of range (at most {} entries)", first,
+                                      shader::BVH_LEAF_FIRST_MASK));
+      n.child[c] = shader::bvh_make_leaf(std::uint32_t(first), shader::bvh_leaf_count(ch));
+    }
     out.push_back(n);
   }
 }

@@ -1,5 +1,5 @@
 // Binned-SAH BVH builder for the `bvh` tracing backend (DESIGN §4): a binary
-// tree emitted in the two-box node layout of core/shared/bvh_types.h.
+// SAH tree, collapsed to the 4-wide node layout of core/shared/bvh_types.h.
 // Deterministic: serial, stable partitions, ties broken by primitive index,
 // so the same boxes give the same bytes on every machine and thread count.
 #pragma once
@@ -34,29 +34,31 @@ struct Aabb {
 };
 
 struct BuildOptions {
-  std::uint32_t max_leaf_size = 4;   // a leaf never holds more (SAH may stop earlier)
+  std::uint32_t max_leaf_size = 4;   // a leaf never holds more (SAH may stop earlier); at most BVH_MAX_LEAF_SIZE
   std::uint32_t bins = 32;
   float traversal_cost = 1.0f;       // relative to one primitive test
-  std::uint32_t max_depth = shader::BVH_BLAS_STACK_SIZE;  // deeper trees are refused (traversal stack)
+  std::uint32_t stack_size = shader::BVH_BLAS_STACK_SIZE;  // trees needing a deeper traversal stack are refused
 };
 
-// A built tree with *local* references: node 0 is the root; an inner child's
-// ref indexes `nodes`, a leaf child's ref indexes `order` (the primitives in
-// leaf order). A tree whose root would be a single leaf gets a root node with
-// that leaf on the left and an empty right child, so traversal always starts
-// at a node.
+// A built tree with *local* references: node 0 is the root; an inner child
+// indexes `nodes`, a leaf child's first entry indexes `order` (the primitives
+// in leaf order). A tree whose root would be a single leaf gets a root node
+// with that leaf as child 0 and the rest empty, so traversal always starts at
+// a node.
 struct BuiltBvh {
   std::vector<shader::BvhNode> nodes;
   std::vector<std::uint32_t> order;  // order[k] = input primitive at leaf position k
   Aabb bounds;
-  std::uint32_t depth = 0;           // inner nodes on the longest root-to-leaf path
+  std::uint32_t depth = 0;           // binary inner nodes on the longest root-to-leaf path
+  std::uint32_t stack_need = 0;      // traversal stack entries the 4-wide tree can need
 };
 
-// Throws gi::DeviceError if the tree would be deeper than options.max_depth.
+// Throws gi::DeviceError if traversing the tree could need more than
+// options.stack_size stack entries.
 BuiltBvh build_bvh(std::span<const Aabb> boxes, const BuildOptions& options = {});
 
-// Copies `tree` into `out` with inner refs offset by node_base and leaf refs
-// by leaf_base (empty children stay empty).
+// Copies `tree` into `out` with inner children offset by node_base and leaf
+// first entries by leaf_base (empty children stay empty).
 void append_relocated(const BuiltBvh& tree, std::uint32_t node_base, std::uint32_t leaf_base,
                       std::vector<shader::BvhNode>& out);
 

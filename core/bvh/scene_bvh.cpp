@@ -61,7 +61,9 @@ SceneBvh::SceneBvh(const FlatGeometry& geometry, const BuildOptions& blas_option
 
 void SceneBvh::relayout(std::uint32_t capacity) {
   capacity_ = capacity;
-  nodes_.assign(2 * capacity_, shader::BvhNode{});
+  shader::BvhNode unused{};
+  unused.child = glm::uvec4(shader::BVH_CHILD_EMPTY);
+  nodes_.assign(2 * capacity_, unused);
   for (std::size_t m = 0; m < blas_.size(); ++m)
     append_relocated(blas_[m], 2 * capacity_ + blas_node_offset_[m], blas_triangle_base_[m], nodes_);
   ++layout_generation_;
@@ -110,9 +112,11 @@ bool SceneBvh::update(const std::vector<GpuInstance>& instances, const std::vect
 
   BuildOptions tlas_options;
   tlas_options.max_leaf_size = 1;
-  tlas_options.max_depth = shader::BVH_TLAS_STACK_SIZE;
+  tlas_options.stack_size = shader::BVH_TLAS_STACK_SIZE;
   const BuiltBvh tlas = build_bvh(boxes, tlas_options);
-  std::fill(nodes_.begin(), nodes_.begin() + 2 * capacity_, shader::BvhNode{});
+  shader::BvhNode unused{};
+  unused.child = glm::uvec4(shader::BVH_CHILD_EMPTY);
+  std::fill(nodes_.begin(), nodes_.begin() + 2 * capacity_, unused);
   std::vector<shader::BvhNode> tlas_nodes;
   append_relocated(tlas, 0, capacity_, tlas_nodes);
   std::copy(tlas_nodes.begin(), tlas_nodes.end(), nodes_.begin());
