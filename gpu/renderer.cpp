@@ -69,13 +69,22 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     if (!options_.gbuffer) throw DeviceError("Renderer: realtime DI needs the G-buffer (RendererOptions::gbuffer)");
     di_.emplace(device, compiler, *options_.di, options.width, options.height);
   }
+  // ReSTIR GI and specular GI querying the cache (restir_gi.hit_radiance
+  // world_cache): their queries join the pixel-rooted pending list.
+  const bool gi_queries_cache = options_.gi && options_.gi->queries_world_cache();
+  if (gi_queries_cache && !options_.world_cache)
+    throw DeviceError("Renderer: restir_gi.hit_radiance world_cache needs the world cache (RendererOptions::world_cache)");
   if (options_.world_cache) {
     if (!options_.gbuffer) throw DeviceError("Renderer: the world cache needs the G-buffer (RendererOptions::gbuffer)");
-    world_cache_.emplace(device, compiler, *options_.world_cache, options.width, options.height);
+    WorldCacheSettings cache = *options_.world_cache;
+    if (gi_queries_cache) cache.external_queries_per_pixel = options_.gi->chains * (options_.gi->specular ? 2u : 1u);
+    world_cache_.emplace(device, compiler, cache, options.width, options.height);
   }
   if (options_.gi) {
     if (!options_.di) throw DeviceError("Renderer: GI needs realtime DI (RendererOptions::di)");
-    gi_.emplace(device, compiler, *options_.gi, options.width, options.height);
+    GiSettings gi = *options_.gi;
+    if (gi_queries_cache) gi.world_cache_defines = world_cache_->shader_defines();
+    gi_.emplace(device, compiler, gi, options.width, options.height);
   }
 }
 
@@ -120,7 +129,7 @@ void Renderer::bind_passes() {
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
   if (di_) di_->bind(scene, gbuffer_);
   if (world_cache_) world_cache_->bind(scene, gbuffer_);
-  if (gi_) gi_->bind(scene, gbuffer_);
+  if (gi_) gi_->bind(scene, gbuffer_, world_cache_ ? &*world_cache_ : nullptr);
   bindings_dirty_ = false;
 }
 
@@ -145,8 +154,17 @@ void Renderer::render_frame(const FrameConstants& frame) {
     if (gbuffer_resolve_) run("gbuffer_resolve", *gbuffer_resolve_);
     if (reference_path_trace_) run("reference_path_trace", *reference_path_trace_);
     if (di_) di_->record(cmd, timer_, /*accumulate=*/true);
-    if (world_cache_) world_cache_->record(cmd, timer_);
-    if (gi_) gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
+    if (gi_ && gi_->settings().queries_world_cache()) {
+      // The cache's update and its view's queries, then GI and specular GI
+      // querying it (this frame's blended radiance, pixel-rooted), then one
+      // commit of every pixel-rooted insertion before next frame's decay.
+      world_cache_->record_update(cmd, timer_);
+      gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
+      world_cache_->record_commit(cmd, timer_);
+    } else {
+      if (world_cache_) world_cache_->record(cmd, timer_);
+      if (gi_) gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
+    }
   });
   timer_.resolve();
 }

@@ -56,8 +56,10 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
   s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
   s.consistent_mis = p.text("restir_gi.mis_weights") == "consistent";
-  s.hit_radiance = p.text("restir_gi.hit_radiance") == "nee" ? gpu::GiSettings::HitRadiance::nee
-                                                             : gpu::GiSettings::HitRadiance::path;
+  const std::string hit = p.text("restir_gi.hit_radiance");
+  s.hit_radiance = hit == "nee"           ? gpu::GiSettings::HitRadiance::nee
+                   : hit == "world_cache" ? gpu::GiSettings::HitRadiance::world_cache
+                                          : gpu::GiSettings::HitRadiance::path;
   s.ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
   s.specular = p.flag("specular.enabled");
   s.specular_reuse_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));

@@ -167,7 +167,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     cache_lifetime_check.emplace(cache_lifetime_params(
         *spec, scenario, static_cast<std::uint32_t>(profile.integer("world_cache.lifetime")), frames));
   if (const CheckSpec* spec = scenario.find_check("blend_lag")) blend_lag = blend_lag_params(*spec, scenario);
-  if (cache_lifetime_check || blend_lag) {
+  // Also when ReSTIR GI queries it (restir_gi.hit_radiance world_cache).
+  if (cache_lifetime_check || blend_lag || (renderer_options.gi && renderer_options.gi->queries_world_cache())) {
     gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
     cache.stats = true;
     cache.root_frame = cache_lifetime_check.has_value();

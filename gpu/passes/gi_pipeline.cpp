@@ -39,9 +39,13 @@ GiPipeline::GiPipeline(Device& device, ShaderCompiler& compiler, const GiSetting
     b->fill_zero();
 }
 
-void GiPipeline::bind(const SceneResources& scene, const Buffer& gbuffer) {
+void GiPipeline::bind(const SceneResources& scene, const Buffer& gbuffer, const WorldCache* world_cache) {
   GiBuffers b{&gbuffer, &stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
               &specular_accumulation_};
+  if (settings_.queries_world_cache()) {
+    if (!world_cache) throw std::logic_error("GiPipeline::bind: hit_radiance world_cache without a world cache");
+    b.world_cache = world_cache->buffer_table();
+  }
   initial_temporal_.bind(scene, b);
   spatial_shade_.bind(scene, b);
   if (specular_) specular_->bind(scene, b);

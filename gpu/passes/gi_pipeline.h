@@ -12,6 +12,7 @@
 #include "gpu/buffer.h"
 #include "gpu/passes/restir_gi.h"
 #include "gpu/passes/specular_gi.h"
+#include "gpu/passes/world_cache.h"
 #include "gpu/state_buffers.h"
 #include "gpu/timer.h"
 
@@ -30,7 +31,8 @@ class GiPipeline {
   GiPipeline(Device& device, ShaderCompiler& compiler, const GiSettings& settings, std::uint32_t width,
              std::uint32_t height);
 
-  void bind(const SceneResources& scene, const Buffer& gbuffer);
+  // world_cache: the cache the passes query (settings.queries_world_cache()).
+  void bind(const SceneResources& scene, const Buffer& gbuffer, const WorldCache* world_cache = nullptr);
   // Records gi_initial_temporal, gi_spatial_shade and (settings.specular)
   // specular_gi, each timed, with barriers. Zeroes the statistics first.
   void record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate, std::uint32_t frame_index, std::uint32_t seed);

@@ -4,6 +4,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/shaders/bindings.h"
+#include "gpu/shaders/world_cache_bindings.h"
 
 namespace gi::gpu {
 
@@ -11,11 +12,15 @@ using namespace gi::shader;
 
 namespace {
 
-std::vector<DescriptorBinding> descriptor_bindings(const std::vector<std::uint32_t>& gi) {
+std::vector<DescriptorBinding> descriptor_bindings(const std::vector<std::uint32_t>& gi, bool world_cache) {
   std::vector<DescriptorBinding> b = scene_descriptor_bindings();
   b.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   b.push_back({BINDING_GI_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   for (std::uint32_t n : gi) b.push_back({n, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  // Every GI pass includes world_cache_common.glsl then: the cache's whole table.
+  if (world_cache)
+    for (std::uint32_t n = BINDING_WC_CHECKSUMS; n <= BINDING_WC_VIEW; ++n)
+      b.push_back({n, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   return b;
 }
 
@@ -40,15 +45,23 @@ const Buffer& buffer_for(std::uint32_t binding, const GiBuffers& b) {
 GiPass::GiPass(Device& device, ShaderCompiler& compiler, const GiSettings& settings, const char* name,
                const char* shader, std::vector<std::uint32_t> gi_bindings)
     : chains_(settings.chains),
+      world_cache_(settings.queries_world_cache()),
       gi_bindings_(std::move(gi_bindings)),
-      pass_(device, name, compiler.compile_file(shader, settings.defines()).spirv, descriptor_bindings(gi_bindings_),
-            sizeof(GiPushConstants)) {}
+      pass_(device, name, compiler.compile_file(shader, settings.defines()).spirv,
+            descriptor_bindings(gi_bindings_, world_cache_), sizeof(GiPushConstants)) {
+  if (world_cache_ && settings.world_cache_defines.empty())
+    throw std::logic_error("GiPass: hit_radiance world_cache without the cache's defines (GiSettings::world_cache_defines)");
+}
 
 void GiPass::bind(const SceneResources& scene, const GiBuffers& b) {
   pass_.bind_scene(scene);
   pass_.bind_buffer(BINDING_GBUFFER, *b.gbuffer);
   pass_.bind_buffer(BINDING_GI_STATS, *b.stats);
   for (std::uint32_t n : gi_bindings_) pass_.bind_buffer(n, buffer_for(n, b));
+  if (world_cache_) {
+    if (b.world_cache.empty()) throw std::logic_error("GiPass: hit_radiance world_cache without the cache's buffers");
+    for (const auto& [n, buffer] : b.world_cache) pass_.bind_buffer(n, *buffer);
+  }
 }
 
 void GiPass::record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height,

@@ -12,7 +12,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
     const std::string s = fmt::format("{:.9g}", v);
     return s.find_first_of(".e") == std::string::npos ? s + ".0" : s;
   };
-  return {{"GI_CONFIDENCE_CAP", f(confidence_cap)},
+  std::vector<ShaderDefine> d = {{"GI_CONFIDENCE_CAP", f(confidence_cap)},
           {"GI_SPATIAL_RADIUS", f(spatial_radius)},
           {"GI_SPATIAL_TRIES", std::to_string(spatial_tries) + "u"},
           {"GI_PLANE_TOLERANCE", f(plane_tolerance)},
@@ -26,6 +26,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_REUSE_ROUGHNESS", f(specular_reuse_roughness)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
+  if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
+  return d;
 }
 
 }  // namespace gi::gpu

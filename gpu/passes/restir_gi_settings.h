@@ -3,6 +3,7 @@
 // #define, so a scenario compiles only the variant it uses.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "gpu/shader_compiler.h"
@@ -25,7 +26,9 @@ struct GiSettings {
   // ray) and is zero where the jacobian rejection would refuse that shift.
   // false ("solari"): Solari's weights, which darken GI.
   bool consistent_mis = false;
-  enum class HitRadiance { nee = 0, path = 1 } hit_radiance = HitRadiance::path;
+  // world_cache: Solari's query at the hit (pixel-rooted, insertions committed
+  // by the cache after the GI passes); needs the world cache (Renderer).
+  enum class HitRadiance { nee = 0, path = 1, world_cache = 2 } hit_radiance = HitRadiance::path;
   float ray_tmax = 50.0f;               // the initial GI ray (world_cache.gi_ray_tmax)
   bool specular = true;                 // specular.enabled
   float specular_reuse_roughness = 0.4f;
@@ -33,6 +36,11 @@ struct GiSettings {
   float min_perceptual_roughness = 0.0316f;  // brdf.min_perceptual_roughness (0: no clamp)
   std::uint32_t chains = 1;             // independent chains, as DiSettings::chains
 
+  // The world cache's defines (WorldCache::shader_defines), set by the
+  // Renderer when hit_radiance is world_cache; added to defines().
+  std::vector<ShaderDefine> world_cache_defines;
+
+  bool queries_world_cache() const { return hit_radiance == HitRadiance::world_cache; }
   std::vector<ShaderDefine> defines() const;
 };
 
@@ -46,6 +54,9 @@ struct GiBuffers {
   const Buffer* stats = nullptr;
   const Buffer* specular_output = nullptr;
   const Buffer* specular_accumulation = nullptr;
+  // The world cache's buffers by binding number (WorldCache::buffer_table),
+  // when the passes query it.
+  std::vector<std::pair<std::uint32_t, const Buffer*>> world_cache;
 };
 
 }  // namespace gi::gpu

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 
 #include <fmt/format.h>
 
@@ -95,7 +96,7 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
       width_(width),
       height_(height),
       // One record per query at most: a query pass has pixels or active cells of them.
-      pending_capacity_(std::max(width * height, settings.cells)),
+      pending_capacity_(std::max(width * height * (1u + settings.external_queries_per_pixel), settings.cells)),
       checksums_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache checksums"),
       life_(device, settings.cells * sizeof(std::uint32_t), kStorage, "world cache life"),
       radiance_(device, settings.cells * sizeof(glm::vec4), kStorage, "world cache radiance"),
@@ -130,6 +131,17 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
     b->fill_zero();
 }
 
+std::vector<std::pair<std::uint32_t, const Buffer*>> WorldCache::buffer_table() const {
+  return {{BINDING_WC_CHECKSUMS, &checksums_},   {BINDING_WC_LIFE, &life_},
+          {BINDING_WC_RADIANCE, &radiance_},     {BINDING_WC_DELTA, &delta_},
+          {BINDING_WC_GEOMETRY, &geometry_},     {BINDING_WC_ROOT_FRAME, &root_frame_},
+          {BINDING_WC_CLAIMS, &claims_},         {BINDING_WC_ACTIVE, &active_},
+          {BINDING_WC_ACTIVE_STATE, &active_state_}, {BINDING_WC_NEW_RADIANCE, &new_radiance_},
+          {BINDING_WC_BLOCK_SUMS, &block_sums_}, {BINDING_WC_COUNTERS, &counters_},
+          {BINDING_WC_PENDING, &pending_},       {BINDING_WC_STATS, &stats_},
+          {BINDING_WC_VIEW, &view_}};
+}
+
 void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
   const std::pair<std::uint32_t, const Buffer*> table[] = {
       {BINDING_GBUFFER, &gbuffer},          {BINDING_WC_CHECKSUMS, &checksums_},
@@ -147,13 +159,39 @@ void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
   }
 }
 
+namespace {
+constexpr VkDeviceSize kActiveArgs = offsetof(WorldCacheCounters, active_args);
+constexpr VkDeviceSize kGiPendingArgs = offsetof(WorldCacheCounters, gi_pending);
+constexpr VkDeviceSize kPixelPendingArgs = offsetof(WorldCacheCounters, pixel_pending);
+constexpr WorldCachePush kCacheToCache{0, 0, 0, 0}, kPixelRooted{1, 0, 0, 0};
+}  // namespace
+
 void WorldCache::record(VkCommandBuffer cmd, GpuTimer& timer) {
+  record_until_query(cmd, timer);
+  commit_pixel_queries(cmd);
+  timer.end(cmd);  // world_cache_query, with its commit
+  indirect_barrier(cmd);
+  record_stats(cmd, timer);
+}
+
+void WorldCache::record_update(VkCommandBuffer cmd, GpuTimer& timer) {
+  record_until_query(cmd, timer);
+  timer.end(cmd);  // world_cache_query, the view's queries only
+}
+
+void WorldCache::record_commit(VkCommandBuffer cmd, GpuTimer& timer) {
+  timer.begin(cmd, "world_cache_commit");
+  commit_pixel_queries(cmd);
+  timer.end(cmd);
+  indirect_barrier(cmd);
+  record_stats(cmd, timer);
+}
+
+// decay .. blend, then the cache view's pixel-rooted queries, leaving the
+// world_cache_query timer open.
+void WorldCache::record_until_query(VkCommandBuffer cmd, GpuTimer& timer) {
   const std::uint32_t cells = settings_.cells;
   const std::uint32_t blocks = cells / WORLD_CACHE_SCAN_BLOCK;
-  const WorldCachePush cache_to_cache{0, 0, 0, 0}, pixel_rooted{1, 0, 0, 0};
-  constexpr VkDeviceSize kActiveArgs = offsetof(WorldCacheCounters, active_args);
-  constexpr VkDeviceSize kGiPendingArgs = offsetof(WorldCacheCounters, gi_pending);
-  constexpr VkDeviceSize kPixelPendingArgs = offsetof(WorldCacheCounters, pixel_pending);
 
   timer.begin(cmd, "world_cache_decay");
   decay_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP), 1);
@@ -177,9 +215,9 @@ void WorldCache::record(VkCommandBuffer cmd, GpuTimer& timer) {
   timer.begin(cmd, "world_cache_sample_gi");
   sample_gi_.dispatch_indirect(cmd, counters_, kActiveArgs);
   indirect_barrier(cmd);
-  pending_args_.dispatch(cmd, 1, 1, 1, &cache_to_cache);
+  pending_args_.dispatch(cmd, 1, 1, 1, &kCacheToCache);
   indirect_barrier(cmd);
-  commit_.dispatch_indirect(cmd, counters_, kGiPendingArgs, &cache_to_cache);
+  commit_.dispatch_indirect(cmd, counters_, kGiPendingArgs, &kCacheToCache);
   timer.end(cmd);
   indirect_barrier(cmd);
 
@@ -191,18 +229,21 @@ void WorldCache::record(VkCommandBuffer cmd, GpuTimer& timer) {
   timer.begin(cmd, "world_cache_query");
   query_pixels_.dispatch(cmd, group_count(width_, RAY_WORKGROUP_X), group_count(height_, RAY_WORKGROUP_Y));
   indirect_barrier(cmd);
-  pending_args_.dispatch(cmd, 1, 1, 1, &pixel_rooted);
+}
+
+// The pixel-rooted list's commit: the lowest query id's record per claimed slot.
+void WorldCache::commit_pixel_queries(VkCommandBuffer cmd) {
+  pending_args_.dispatch(cmd, 1, 1, 1, &kPixelRooted);
   indirect_barrier(cmd);
-  commit_.dispatch_indirect(cmd, counters_, kPixelPendingArgs, &pixel_rooted);
+  commit_.dispatch_indirect(cmd, counters_, kPixelPendingArgs, &kPixelRooted);
+}
+
+void WorldCache::record_stats(VkCommandBuffer cmd, GpuTimer& timer) {
+  if (!settings_.stats) return;
+  timer.begin(cmd, "world_cache_stats");
+  stats_pass_.dispatch(cmd, group_count(settings_.cells, WORLD_CACHE_CELL_GROUP), 1);
   timer.end(cmd);
   indirect_barrier(cmd);
-
-  if (settings_.stats) {
-    timer.begin(cmd, "world_cache_stats");
-    stats_pass_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP), 1);
-    timer.end(cmd);
-    indirect_barrier(cmd);
-  }
 }
 
 WorldCacheFrameStats WorldCache::stats() const {

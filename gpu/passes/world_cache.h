@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -43,6 +44,10 @@ struct WorldCacheSettings {
   bool log2_radiance = true;
   bool stats = false;       // the per-frame statistics pass (blend_lag, cache_lifetime)
   bool root_frame = false;  // root-frame instrumentation (cache_lifetime): WORLD_CACHE_ROOT_FRAME
+  // Pixel-rooted queries per pixel that other passes add to the cache's own
+  // (ReSTIR GI and specular GI with restir_gi.hit_radiance "world_cache": 2 per
+  // chain); sizes the pending list only.
+  std::uint32_t external_queries_per_pixel = 0;
 
   std::vector<ShaderDefine> defines(std::uint32_t pending_capacity) const;
 };
@@ -71,6 +76,19 @@ class WorldCache {
   // commit), world_cache_blend, world_cache_query (with its commit) and
   // world_cache_stats.
   void record(VkCommandBuffer cmd, GpuTimer& timer);
+  // The same frame in two halves, for passes that query the cache in between
+  // (ReSTIR GI, specular GI): record_update runs decay .. blend and the cache
+  // view's queries (world_cache_query), record_commit the pixel-rooted commit
+  // (world_cache_commit: the view's and the other passes' insertions, lowest
+  // query id per slot) and the statistics. Queries in between read this
+  // frame's blended radiance and must use the pixel-rooted list (1) with ids
+  // from width·height up (the view's are the pixel indices).
+  void record_update(VkCommandBuffer cmd, GpuTimer& timer);
+  void record_commit(VkCommandBuffer cmd, GpuTimer& timer);
+  // Every cache buffer by binding number (world_cache_bindings.h), for another
+  // pass that includes world_cache_common.glsl; and the defines it compiles with.
+  std::vector<std::pair<std::uint32_t, const Buffer*>> buffer_table() const;
+  std::vector<ShaderDefine> shader_defines() const { return settings_.defines(pending_capacity_); }
 
   WorldCacheFrameStats stats() const;
   Image view() const;  // irradiance at each pixel's primary surface, from the cache
@@ -87,6 +105,10 @@ class WorldCache {
   }
 
  private:
+  void record_until_query(VkCommandBuffer cmd, GpuTimer& timer);
+  void commit_pixel_queries(VkCommandBuffer cmd);
+  void record_stats(VkCommandBuffer cmd, GpuTimer& timer);
+
   WorldCacheSettings settings_;
   std::uint32_t width_, height_;
   std::uint32_t pending_capacity_;

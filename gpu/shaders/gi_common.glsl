@@ -7,7 +7,8 @@
 // GI_SPATIAL_RADIUS, GI_SPATIAL_TRIES, GI_CONSISTENT_MIS (restir_gi.mis_weights), GI_PLANE_TOLERANCE, GI_NORMAL_MIN_DOT,
 // GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
 // GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_HIT_RADIANCE (0: one
-// NEE light sample, 1: one cosine-sampled path), GI_RAY_TMAX,
+// NEE light sample, 1: one cosine-sampled path, 2: the world cache, with the
+// cache's WORLD_CACHE_* defines), GI_RAY_TMAX,
 // SPECULAR_REUSE_ROUGHNESS, SPECULAR_MAX_BOUNCES, SPECULAR_MIN_PERCEPTUAL_ROUGHNESS.
 #include "core/shared/restir_gi.h"
 #include "core/shared/restir_di.h"
@@ -16,6 +17,11 @@
 #include "gpu/shaders/gi_bindings.h"
 
 layout(push_constant) uniform Push { GiPushConstants push; };
+
+#if GI_HIT_RADIANCE == 2
+#include "gpu/shaders/world_cache_common.glsl"
+#include "gpu/shaders/world_cache_query.glsl"
+#endif
 
 layout(std430, set = 0, binding = BINDING_GBUFFER) readonly buffer GBuffer { GBufferTexel gbuffer[]; };
 layout(std430, set = 0, binding = BINDING_GI_STATS) buffer Stats { GiStats gi_stats; };
@@ -60,15 +66,34 @@ bool gi_dissimilar(GiPixel d, vec3 other_position, vec3 other_normal) {
                           GI_NORMAL_MIN_DOT);
 }
 
+// The query ids of the GI passes' pixel-rooted cache queries: after the cache
+// view's (the pixel indices), the initial samples' per chain, then specular
+// GI's per chain; unique within the pending list they share (lowest id wins a slot).
+uint gi_cache_query_id(uint pass_block, uint chain, uint index) {
+  uint pixels = frame.resolution_frame.x * frame.resolution_frame.y;
+  return (1u + pass_block * push.chain_count + chain) * pixels + index;
+}
+
 // Radiance a hit point sends back towards the querier, treating it as diffuse
 // (as Solari's world cache does: radiance = irradiance · base_colour / π).
 // Emission is not included (DI owns direct light). The one place the hit
-// radiance comes from: the world cache will take GI_HIT_RADIANCE 2.
-vec3 gi_hit_radiance(SurfacePoint s, vec3 ng, vec3 ns, inout uint rng) {
+// radiance comes from. ng faces the querier; query_id: gi_cache_query_id
+// (GI_HIT_RADIANCE 2 only).
+vec3 gi_hit_radiance(SurfacePoint s, vec3 ng, vec3 ns, uint query_id, inout uint rng) {
   GpuMaterial m = scene_material(s.material);
   vec3 diffuse = vec3(m.base_color_metallic) * (1.0 - m.base_color_metallic.w);
+#if GI_HIT_RADIANCE == 2
+  // Solari's query_world_cache at the hit, pixel-rooted: full lifetime, root
+  // frame = this frame; an empty cell is claimed and committed after the GI
+  // passes (WorldCache::record_commit). Queried even on a black surface, as
+  // Solari does, so the cell exists.
+  vec3 irradiance = world_cache_query(s.position, ng, uint(WORLD_CACHE_LIFETIME), frame.resolution_frame.z,
+                                      query_id, 1u);
+  return diffuse * INV_PI * irradiance;
+#else
   if (max3(diffuse) <= 0.0) return vec3(0.0);
   vec3 spawn = offset_ray_origin(s.position, ng);
+#endif
 #if GI_HIT_RADIANCE == 0
   // Bevy's NO_WORLD_CACHE path: one light sample, direct light only.
   vec3 l;
@@ -78,7 +103,7 @@ vec3 gi_hit_radiance(SurfacePoint s, vec3 ng, vec3 ns, inout uint rng) {
   if (!sample_light(s.position, rng, l, dist, le, pdf) || dot(l, ng) <= 0.0) return vec3(0.0);
   if (!light_sample_visible(s.position, spawn, l, dist)) return vec3(0.0);
   return diffuse * INV_PI * le * max(dot(ns, l), 0.0) / pdf;
-#else
+#elif GI_HIT_RADIANCE == 1
   // One cosine-sampled direction, path traced on: diffuse · L_in (cos/π cancels the pdf).
   vec3 l = to_world(sample_cosine_hemisphere(rng_next_vec2(rng)), ns);
   if (dot(l, ng) <= 0.0) return vec3(0.0);

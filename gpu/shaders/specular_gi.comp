@@ -6,7 +6,8 @@
 //   0.001) and trace_glossy_path: up to SPECULAR_MAX_BOUNCES bounces;
 //   emissive hits count from the second vertex on (DI owns the first), NEE
 //   at non-mirror vertices, balance-heuristic MIS between the two, a rough
-//   hit ends the path in gi_hit_radiance (where Solari queries the cache).
+//   hit ends the path in gi_hit_radiance (GI_HIT_RADIANCE 2: the world cache,
+//   pixel-rooted, as Solari).
 // The primary surface's roughness is clamped by SPECULAR_MIN_PERCEPTUAL_ROUGHNESS
 // (brdf.min_perceptual_roughness; 0 = Solari 0.17, NaN on zero roughness).
 #version 460
@@ -22,7 +23,7 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumula
 
 // Radiance arriving at `position` along `dir`, without what DI owns (the
 // first vertex's emission and escaped light).
-vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, inout uint rng) {
+vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, inout uint rng) {
   vec3 radiance = vec3(0.0);
   vec3 throughput = vec3(1.0);
   float previous_pdf = 0.0;  // of the direction just traced; 0: no NEE at its origin (mirror or bounce 0)
@@ -45,7 +46,7 @@ vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, inout uint rng) {
     vec3 hns = dot(s.shading_normal, hng) < 0.0 ? -s.shading_normal : s.shading_normal;
     BrdfParams brdf = material_brdf(s.material);
     if (brdf.alpha > float(SPECULAR_REUSE_ROUGHNESS)) {
-      radiance += throughput * gi_hit_radiance(s, hng, hns, rng);
+      radiance += throughput * gi_hit_radiance(s, hng, hns, query_id, rng);
       break;
     }
     vec3 v = -dir;
@@ -96,7 +97,7 @@ void main() {
     } else if (max3(f0) > 0.0) {
       vec3 wi = to_world(sample_ggx_bounded_vndf(from_world(d.view, d.ns), alpha, rng_next_vec2(rng)), d.ns);
       if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
-        color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) * trace_glossy_path(d.position, d.ng, wi, rng);
+        color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) * trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), rng);
     }
   }
   if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);

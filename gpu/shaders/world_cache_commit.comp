@@ -5,6 +5,8 @@
 #version 460
 #include "gpu/shaders/world_cache_common.glsl"
 
+layout(push_constant) uniform WcPushBlock { WorldCachePush wc_push; };
+
 layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 
 void main() {

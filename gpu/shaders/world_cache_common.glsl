@@ -1,5 +1,6 @@
 // What every world-cache pass shares: the cache's buffers and the reusable
-// query (DESIGN §3 step 5). Include after #version (and after
+// query (DESIGN §3 step 5); also included by the GI passes that query the
+// cache (GI_HIT_RADIANCE 2), with the same defines. Include after #version (and after
 // scene_bindings.glsl in passes that trace). Settings come as defines
 // (gpu/passes/world_cache.cpp, WorldCacheSettings::defines):
 //   WORLD_CACHE_CELLS (power of two), WORLD_CACHE_LIFETIME, WORLD_CACHE_MAX_PROBE_STEPS,
@@ -30,5 +31,7 @@ layout(std430, set = 0, binding = BINDING_WC_PENDING) buffer WcPending { WorldCa
 layout(std430, set = 0, binding = BINDING_WC_STATS) buffer WcStats { WorldCacheStats wc_stats; };
 layout(std430, set = 0, binding = BINDING_WC_VIEW) buffer WcView { vec4 wc_view[]; };
 
-layout(push_constant) uniform WcPushBlock { WorldCachePush wc_push; };
+// No push-constant block here: passes that include this file from outside
+// the cache (ReSTIR GI, specular GI) have their own. The two cache passes
+// that read WorldCachePush (pending_args, commit) declare it themselves.
 
