@@ -125,6 +125,50 @@ TEST_F(Capture60, PerturbedReservoirIsCaughtByVerifyNamingFrameAndBuffer) {
   EXPECT_GT(verify["divergent_frames"].get<int>(), 1);
 }
 
+// The perturbation: one world-cache cell changed in a snapshot of a
+// scenario that runs the cache (the closed room's light toggle, a 2^16-cell
+// table as the cache tests use, captured at frame 30 of 40).
+TEST(CaptureWorldCache, PerturbedCellIsCaughtByVerifyNamingFrameAndBuffer) {
+  test::TempDir dir("capture-cache");
+  const auto run = dir.path() / "run";
+  const test::CommandResult original = test::run_giharness(
+      "run " + (test::source_dir() / "scenarios/cache_light_toggle_closed_room.json").string() +
+      " --set world_cache.cells=65536 --frames 40 --capture 30 --out " + run.string());
+  ASSERT_NE(original.exit_code, -1) << original.output;
+  // Unperturbed, the cache's snapshot replays frames 30-39 bit for bit.
+  const test::CommandResult same = test::run_giharness("replay " + (run / "captures/frame_00030").string() +
+                                                       " --verify --out " + (dir.path() / "replay").string());
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  const auto copy = dir.path() / "perturbed";
+  std::filesystem::copy(run / "captures/frame_00030", copy);
+  const auto file = copy / "world_cache.radiance.npy";
+  NpyArray a = read_npy(file);
+  ASSERT_EQ(a.shape.size(), 2u);
+  ASSERT_EQ(a.shape[1], 4u);
+  // The first cell holding a sample: add to its red irradiance.
+  std::size_t cell = a.shape[0];
+  for (std::size_t c = 0; c < a.shape[0]; ++c) {
+    float n = 0;
+    std::memcpy(&n, a.data.data() + (c * 4 + 3) * 4, 4);
+    if (n > 0.0f) { cell = c; break; }
+  }
+  ASSERT_LT(cell, a.shape[0]) << "no live cell in the snapshot";
+  float r = 0;
+  std::memcpy(&r, a.data.data() + cell * 16, 4);
+  r = r * 2.0f + 1.0f;
+  std::memcpy(a.data.data() + cell * 16, &r, 4);
+  write_npy(file, a.dtype, a.shape, a.data.data(), a.data.size());
+
+  const auto out = dir.path() / "replay_perturbed";
+  const test::CommandResult v = test::run_giharness("replay " + copy.string() + " --verify --out " + out.string());
+  EXPECT_EQ(v.exit_code, 1) << v.output;
+  EXPECT_NE(v.output.find("frame 30"), std::string::npos) << v.output;
+  EXPECT_NE(v.output.find("world_cache/radiance"), std::string::npos) << v.output;
+  const nlohmann::json verify = test::read_json(out / "verify.json");
+  EXPECT_EQ(verify["first_divergent_frame"], 30);
+  EXPECT_EQ(verify["first_divergent_buffers"], nlohmann::json::array({"world_cache/radiance"}));
+}
+
 TEST_F(Capture60, EveryNpyHeaderMatchesTheManifest) {
   const nlohmann::json m = test::read_json(capture() / "manifest.json");
   EXPECT_EQ(m["frame"], 60);
