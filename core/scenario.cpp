@@ -71,7 +71,7 @@ const ScenarioKeys& scenario_keys() {
     k.mesh_generator_keys = {"generator", "params"};
     k.check_names = {"reference", "finite", "determinism", "cache_lifetime", "blend_lag", "jacobian", "cluster_ids"};
     k.check_keys = {
-        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp"}},
+        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp", "warmup_frames"}},
         {"finite", {"name"}},
         {"determinism", {"name", "second_run", "snapshot_frame"}},
         {"cluster_ids", {"name", "cluster_bits", "triangle_bits", "count_only", "clusters_per_instance"}},

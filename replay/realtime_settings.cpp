@@ -42,6 +42,9 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.gi_ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
   s.light_exposure = static_cast<float>(p.number("light_tiles.exposure"));
   s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
+  s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
+  s.glossy_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
+  s.glossy_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
   return s;
 }
 
@@ -65,6 +68,7 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.specular_reuse_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
   s.specular_max_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
   s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
+  s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
   s.chains = chains;
   return s;
 }

@@ -182,7 +182,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
   FrameLog frame_log(options.out_dir / "frames.jsonl");
   std::uint64_t window_samples = 0;
-  std::uint32_t window_start = 0;
+  std::uint32_t window_start = 0;  // first frame of the accumulated estimate
+  std::uint32_t static_start = 0;  // last frame the scene changed (start of the static window)
+  const std::uint32_t warmup_frames = realtime_check ? realtime_check->params().warmup_frames : 0;
   std::optional<std::uint32_t> first_nonfinite_frame;
   std::uint64_t nonfinite_pixels_total = 0;
   std::uint64_t gi_nonfinite_total = 0;  // non-finite GI reservoirs and GI/specular output values
@@ -228,6 +230,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       spdlog::warn("{}: the scene re-derived at frame {} differs from the captured one (scenario or code changed?)",
                    manifest, capture.frame);
     window_start = loop.value("window_start", 0u);
+    static_start = loop.value("static_start", window_start);
     window_samples = loop.value("window_samples", std::uint64_t{0});
     nonfinite_pixels_total = loop.value("nonfinite_pixels_total", std::uint64_t{0});
     if (loop.contains("first_nonfinite_frame") && loop["first_nonfinite_frame"].is_number_unsigned())
@@ -255,7 +258,10 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     }
     // The reference mode estimates one static image: any change starts a new
     // accumulation window.
-    if (changes.any() && frame > 0) {
+    if (changes.any() && frame > 0) static_start = frame;
+    // A realtime reference check with warmup_frames starts its window that
+    // many frames into the static window.
+    if ((changes.any() && frame > 0) || (warmup_frames > 0 && frame == static_start + warmup_frames)) {
       renderer->reset_accumulation();
       window_samples = 0;
       window_start = frame;
@@ -351,6 +357,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
           {"device", device.info().to_json()},
           {"loop",
            {{"window_start", window_start},
+            {"static_start", static_start},
             {"window_samples", window_samples},
             {"nonfinite_pixels_total", nonfinite_pixels_total},
             {"first_nonfinite_frame",

@@ -45,6 +45,16 @@ TEST(BadInput, WrongType) { expect_bad_scenario("wrong_type.json", "/frames"); }
 TEST(BadInput, OutOfRangeValue) { expect_bad_scenario("out_of_range.json", "/resolution/1"); }
 TEST(BadInput, UnknownKey) { expect_bad_scenario("unknown_key.json", "/events/0/translate"); }
 TEST(BadInput, MissingSceneFile) { expect_bad_scenario("missing_scene_file.json", "/scene/gltf"); }
+// A check parameter the parser accepts but the run refuses: a warm-up that
+// would start the reference window after the compared frame.
+TEST(BadInput, WarmupPastTheComparedFrame) {
+  test::TempDir dir("warmup");
+  const auto file = dir.path() / "warmup_past_compared_frame.json";
+  std::ofstream(file) << R"({"name": "warmup", "scene": {"generator": "cornell_box"}, "resolution": [16, 16],
+                             "frames": 8, "mode": "realtime",
+                             "checks": [{"name": "reference", "frames": [4], "warmup_frames": 6}]})";
+  expect_exit_two(file, {"warmup_past_compared_frame.json", "/checks/0/warmup_frames"});
+}
 
 TEST(BadInput, MissingScenarioFile) {
   expect_exit_two("/nonexistent/giharness/scenario.json", {"/nonexistent/giharness/scenario.json", ":"});

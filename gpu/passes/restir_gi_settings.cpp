@@ -22,6 +22,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
           {"GI_CONSISTENT_MIS", consistent_mis ? "1" : "0"},
           {"GI_HIT_RADIANCE", std::to_string(static_cast<int>(hit_radiance))},
+          {"GI_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
           {"GI_RAY_TMAX", f(ray_tmax)},
           {"SPECULAR_REUSE_ROUGHNESS", f(specular_reuse_roughness)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},

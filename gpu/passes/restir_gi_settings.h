@@ -29,6 +29,10 @@ struct GiSettings {
   // world_cache: Solari's query at the hit (pixel-rooted, insertions committed
   // by the cache after the GI passes); needs the world cache (Renderer).
   enum class HitRadiance { nee = 0, path = 1, world_cache = 2 } hit_radiance = HitRadiance::path;
+  // brdf.secondary_hits "full": a GI sample's hit on a glossy surface is
+  // followed along its BRDF, a rough hit adds its specular albedo; false:
+  // Solari's diffuse-only secondary hits (hit_radiance.glsl).
+  bool secondary_hits_full = false;
   float ray_tmax = 50.0f;               // the initial GI ray (world_cache.gi_ray_tmax)
   bool specular = true;                 // specular.enabled
   float specular_reuse_roughness = 0.4f;

@@ -42,6 +42,13 @@ struct WorldCacheSettings {
   float gi_ray_tmax = 50.0f;
   float light_exposure = 1.0f;
   bool log2_radiance = true;
+  // brdf.secondary_hits "full": a cell's GI ray that hits a glossy surface
+  // (alpha ≤ glossy_roughness) follows it along its BRDF for up to
+  // glossy_bounces vertices (specular.*) before querying the cache; false:
+  // Solari's diffuse-only cache (hit_radiance.glsl).
+  bool secondary_hits_full = false;
+  float glossy_roughness = 0.4f;
+  std::uint32_t glossy_bounces = 3;
   bool stats = false;       // the per-frame statistics pass (blend_lag, cache_lifetime)
   bool root_frame = false;  // root-frame instrumentation (cache_lifetime): WORLD_CACHE_ROOT_FRAME
   // Pixel-rooted queries per pixel that other passes add to the cache's own

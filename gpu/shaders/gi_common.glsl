@@ -1,6 +1,6 @@
 // What the ReSTIR GI and specular GI passes share (DESIGN §3 steps 7-8):
-// bindings, the pixel's surface from the G-buffer, the radiance of a GI
-// sample's hit point, and the merge with its statistics. Include after
+// bindings, the pixel's surface from the G-buffer, the cache query of a GI
+// sample's hit (its radiance: hit_radiance.glsl), and the merge with its statistics. Include after
 // scene_bindings.glsl (with the path integrator).
 //
 // Defines (gpu/passes/restir_gi_settings.cpp): GI_CONFIDENCE_CAP,
@@ -8,7 +8,7 @@
 // GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
 // GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_HIT_RADIANCE (0: one
 // NEE light sample, 1: one cosine-sampled path, 2: the world cache, with the
-// cache's WORLD_CACHE_* defines), GI_RAY_TMAX,
+// cache's WORLD_CACHE_* defines), GI_SECONDARY_HITS_FULL (brdf.secondary_hits), GI_RAY_TMAX,
 // SPECULAR_REUSE_ROUGHNESS, SPECULAR_MAX_BOUNCES, SPECULAR_MIN_PERCEPTUAL_ROUGHNESS.
 #include "core/shared/restir_gi.h"
 #include "core/shared/restir_di.h"
@@ -74,41 +74,28 @@ uint gi_cache_query_id(uint pass_block, uint chain, uint index) {
   return (1u + pass_block * push.chain_count + chain) * pixels + index;
 }
 
-// Radiance a hit point sends back towards the querier, treating it as diffuse
-// (as Solari's world cache does: radiance = irradiance · base_colour / π).
-// Emission is not included (DI owns direct light). The one place the hit
-// radiance comes from. ng faces the querier; query_id: gi_cache_query_id
-// (GI_HIT_RADIANCE 2 only).
-vec3 gi_hit_radiance(SurfacePoint s, vec3 ng, vec3 ns, uint query_id, inout uint rng) {
-  GpuMaterial m = scene_material(s.material);
-  vec3 diffuse = vec3(m.base_color_metallic) * (1.0 - m.base_color_metallic.w);
+// Secondary hits (hit_radiance.glsl) with this pass's settings.
+#define HIT_RADIANCE GI_HIT_RADIANCE
+#define HIT_SURFACES_FULL GI_SECONDARY_HITS_FULL
+#define HIT_GLOSSY_ROUGHNESS SPECULAR_REUSE_ROUGHNESS
+#define HIT_GLOSSY_BOUNCES SPECULAR_MAX_BOUNCES
+#include "gpu/shaders/hit_radiance.glsl"
+
+// A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,
+// root frame = this frame, the id from gi_cache_query_id, the pending list the
+// cache view shares; an empty cell is claimed and committed after the GI
+// passes (WorldCache::record_commit).
+CacheQuery gi_pixel_query(uint query_id) {
+  CacheQuery q;
 #if GI_HIT_RADIANCE == 2
-  // Solari's query_world_cache at the hit, pixel-rooted: full lifetime, root
-  // frame = this frame; an empty cell is claimed and committed after the GI
-  // passes (WorldCache::record_commit). Queried even on a black surface, as
-  // Solari does, so the cell exists.
-  vec3 irradiance = world_cache_query(s.position, ng, uint(WORLD_CACHE_LIFETIME), frame.resolution_frame.z,
-                                      query_id, 1u);
-  return diffuse * INV_PI * irradiance;
+  q.life = uint(WORLD_CACHE_LIFETIME);
 #else
-  if (max3(diffuse) <= 0.0) return vec3(0.0);
-  vec3 spawn = offset_ray_origin(s.position, ng);
+  q.life = 0u;
 #endif
-#if GI_HIT_RADIANCE == 0
-  // Bevy's NO_WORLD_CACHE path: one light sample, direct light only.
-  vec3 l;
-  float dist;
-  vec3 le;
-  float pdf;
-  if (!sample_light(s.position, rng, l, dist, le, pdf) || dot(l, ng) <= 0.0) return vec3(0.0);
-  if (!light_sample_visible(s.position, spawn, l, dist)) return vec3(0.0);
-  return diffuse * INV_PI * le * max(dot(ns, l), 0.0) / pdf;
-#elif GI_HIT_RADIANCE == 1
-  // One cosine-sampled direction, path traced on: diffuse · L_in (cos/π cancels the pdf).
-  vec3 l = to_world(sample_cosine_hemisphere(rng_next_vec2(rng)), ns);
-  if (dot(l, ng) <= 0.0) return vec3(0.0);
-  return diffuse * path_trace(spawn, l, rng, 32u);
-#endif
+  q.root_frame = frame.resolution_frame.z;
+  q.id = query_id;
+  q.list = 1u;
+  return q;
 }
 
 // Whether point `target` is visible from surface point p (geometric normal ng).

@@ -1,7 +1,7 @@
 // ReSTIR GI, dispatch 1 of 2 (DESIGN §3 step 7): the initial sample — one
 // uniform-hemisphere ray; a miss or an emissive hit gives an empty reservoir
-// (M = 1, W = 0), else radiance = gi_hit_radiance(hit) (GI_HIT_RADIANCE 2:
-// the world cache, Solari's query), W = 2π, M = 1 — then
+// (M = 1, W = 0), else radiance = secondary_hit_radiance(hit) (hit_radiance.glsl;
+// GI_HIT_RADIANCE 2: the world cache, Solari's query), W = 2π, M = 1 — then
 // temporal reuse of last frame's stored reservoir through the motion vector,
 // the reprojected pixel permuted within 4×4 blocks (GI_TEMPORAL_PERMUTATION),
 // rejected when the surfaces differ, confidence capped at GI_CONFIDENCE_CAP,
@@ -45,7 +45,9 @@ void main() {
         vec3 ns = dot(s.shading_normal, ng) < 0.0 ? -s.shading_normal : s.shading_normal;
         canonical.sample_position.xyz = s.position;
         canonical.sample_normal.xyz = ng;
-        canonical.radiance = vec4(gi_hit_radiance(s, ng, ns, gi_cache_query_id(0u, chain, index), rng), TWO_PI);
+        canonical.radiance =
+            vec4(secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(0u, chain, index)), rng),
+                 TWO_PI);
       }
     }
   }

@@ -6,8 +6,8 @@
 //   0.001) and trace_glossy_path: up to SPECULAR_MAX_BOUNCES bounces;
 //   emissive hits count from the second vertex on (DI owns the first), NEE
 //   at non-mirror vertices, balance-heuristic MIS between the two, a rough
-//   hit ends the path in gi_hit_radiance (GI_HIT_RADIANCE 2: the world cache,
-//   pixel-rooted, as Solari).
+//   hit ends the path in end_path_radiance (GI_HIT_RADIANCE 2: the world
+//   cache, pixel-rooted, as Solari); hit_radiance.glsl.
 // The primary surface's roughness is clamped by SPECULAR_MIN_PERCEPTUAL_ROUGHNESS
 // (brdf.min_perceptual_roughness; 0 = Solari 0.17, NaN on zero roughness).
 #version 460
@@ -22,57 +22,11 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_OUTPUT) writeonly buffer Outp
 layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumulation { vec4 specular_accumulation[]; };
 
 // Radiance arriving at `position` along `dir`, without what DI owns (the
-// first vertex's emission and escaped light).
+// first hit's emission, escaped light): glossy_path_radiance from the first hit.
 vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, inout uint rng) {
-  vec3 radiance = vec3(0.0);
-  vec3 throughput = vec3(1.0);
-  float previous_pdf = 0.0;  // of the direction just traced; 0: no NEE at its origin (mirror or bounce 0)
-  vec3 origin = offset_ray_origin(position, ng);
-  for (uint bounce = 0u; bounce < uint(SPECULAR_MAX_BOUNCES); ++bounce) {
-    Hit hit;
-    if (!trace_closest(origin, dir, RAY_TMAX, hit)) {
-      if (bounce > 0u) radiance += throughput * escaped_radiance(dir, previous_pdf);
-      break;
-    }
-    SurfacePoint s = surface_at_hit(hit);
-    bool front = dot(dir, s.geometric_normal) < 0.0;
-    if (bounce > 0u && front && max3(s.emissive) > 0.0) {
-      float w = previous_pdf > 0.0
-                    ? balance_heuristic(previous_pdf, emissive_hit_light_pdf(s, hit.instance, dir, hit.t))
-                    : 1.0;
-      radiance += throughput * s.emissive * w;
-    }
-    vec3 hng = front ? s.geometric_normal : -s.geometric_normal;
-    vec3 hns = dot(s.shading_normal, hng) < 0.0 ? -s.shading_normal : s.shading_normal;
-    BrdfParams brdf = material_brdf(s.material);
-    if (brdf.alpha > float(SPECULAR_REUSE_ROUGHNESS)) {
-      radiance += throughput * gi_hit_radiance(s, hng, hns, query_id, rng);
-      break;
-    }
-    vec3 v = -dir;
-    vec3 spawn = offset_ray_origin(s.position, hng);
-    bool mirror = brdf.alpha <= SPECULAR_MIRROR_ALPHA;
-    if (!mirror) {
-      vec3 l;
-      float dist;
-      vec3 le;
-      float light_pdf;
-      if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, hng) > 0.0) {
-        vec3 f = brdf_eval(brdf, hns, v, l) * max(dot(hns, l), 0.0);
-        if (max3(f) > 0.0 && light_sample_visible(s.position, spawn, l, dist))
-          radiance += throughput * f * le * (balance_heuristic(light_pdf, brdf_pdf(brdf, hns, v, l)) / light_pdf);
-      }
-    }
-    vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
-    vec3 l;
-    float pdf;
-    if (!brdf_sample(brdf, hns, v, u, l, pdf) || dot(l, hng) <= 0.0) break;
-    throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0) / pdf);
-    previous_pdf = mirror ? 0.0 : pdf;
-    origin = spawn;
-    dir = l;
-  }
-  return radiance;
+  Hit hit;
+  if (!trace_closest(offset_ray_origin(position, ng), dir, RAY_TMAX, hit)) return vec3(0.0);
+  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id), rng);
 }
 
 void main() {

@@ -4,6 +4,9 @@
 // cache there (a cache-to-cache query: life by the profile's rule, root frame
 // passed on). Irradiance estimate: π · (ρ/π) · E_hit = ρ · E_hit. Emission at
 // the hit is left out: the direct sample owns the lights.
+// WORLD_CACHE_SECONDARY_HITS_FULL (brdf.secondary_hits "full"): π times the
+// hit's secondary_hit_radiance instead (hit_radiance.glsl: a glossy hit is
+// followed along its BRDF before the path queries the cache).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #define SCENE_BINDINGS_NO_INTEGRATOR
@@ -11,6 +14,12 @@
 #include "core/shared/path_integrator.h"
 #include "gpu/shaders/world_cache_common.glsl"
 #include "gpu/shaders/world_cache_query.glsl"
+
+#define HIT_RADIANCE 2
+#define HIT_SURFACES_FULL WORLD_CACHE_SECONDARY_HITS_FULL
+#define HIT_GLOSSY_ROUGHNESS WORLD_CACHE_GLOSSY_ROUGHNESS
+#define HIT_GLOSSY_BOUNCES WORLD_CACHE_GLOSSY_BOUNCES
+#include "gpu/shaders/hit_radiance.glsl"
 
 layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 
@@ -29,10 +38,20 @@ void main() {
     SurfacePoint s = surface_at_hit(hit);
     vec3 hit_position = s.position;
     vec3 hit_normal = dot(s.geometric_normal, dir) > 0.0 ? -s.geometric_normal : s.geometric_normal;
+    uint life = world_cache_query_life(false, state.x, uint(WORLD_CACHE_LIFETIME), WORLD_CACHE_C2C_FULL != 0);
+#if WORLD_CACHE_SECONDARY_HITS_FULL != 0
+    CacheQuery q;
+    q.life = life;
+    q.root_frame = state.y;
+    q.id = cell;
+    q.list = 0u;
+    vec3 ns = dot(s.shading_normal, hit_normal) < 0.0 ? -s.shading_normal : s.shading_normal;
+    irradiance = PI * secondary_hit_radiance(hit, s, hit_normal, ns, dir, q, rng);
+#else
     GpuMaterial m = scene_material(s.material);
     vec3 diffuse = m.base_color_metallic.rgb * (1.0 - m.base_color_metallic.a);
-    uint life = world_cache_query_life(false, state.x, uint(WORLD_CACHE_LIFETIME), WORLD_CACHE_C2C_FULL != 0);
     irradiance = diffuse * world_cache_query(hit_position, hit_normal, life, state.y, cell, 0u);
+#endif
   }
   wc_new_radiance[i] += vec4(irradiance, 0.0);
 }

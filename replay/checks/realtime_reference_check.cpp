@@ -95,6 +95,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   f.frame = frame;
   f.window_start = gpu.window_start;
   f.window_frames = gpu.window_frames;
+  f.full_gi = gpu.full_gi;
   const Image mean = average(gpu.mean_a, gpu.mean_b);
   f.temporal = compare(mean, gpu.mean_a, gpu.mean_b, ref.mean, ref.half_a, ref.half_b);
   f.per_frame = single_chain(gpu.frame_a, gpu.frame_b, ref);
@@ -114,6 +115,7 @@ CheckResult RealtimeReferenceCheck::result() const {
   r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
               {"energy_tolerance", params_.energy_tolerance},
               {"relmse_tolerance", params_.relmse_tolerance},
+              {"warmup_frames", params_.warmup_frames},
               {"reference_spp", params_.spp},
               {"judged_on", "temporal mean over the static window (two independent chains as halves)"}};
   if (frames_.empty()) {
@@ -151,9 +153,9 @@ CheckResult RealtimeReferenceCheck::result() const {
   const FrameComparison& last = frames_.back();
   r.verdict = any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
   r.message = r.verdict == Verdict::pass
-                  ? fmt::format("frame {}: DI temporal mean of {} frames: relMSE {:.3g} = {:.2f}x combined noise "
+                  ? fmt::format("frame {}: {} temporal mean of {} frames: relMSE {:.3g} = {:.2f}x combined noise "
                                 "{:.3g}; energy ratio {:.4f}; per frame relMSE {:.3g}",
-                                last.frame, last.window_frames, last.temporal.relmse, last.temporal.relmse_over_noise,
+                                last.frame, last.full_gi ? "full-image" : "DI", last.window_frames, last.temporal.relmse, last.temporal.relmse_over_noise,
                                 last.temporal.combined_noise, last.temporal.energy_ratio, last.per_frame.relmse)
                   : first_problem;
   return r;

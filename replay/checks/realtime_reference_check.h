@@ -43,6 +43,7 @@ class RealtimeReferenceCheck {
  public:
   RealtimeReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
                          std::filesystem::path out_dir);
+  const ReferenceCheckParams& params() const { return params_; }
   bool wants(std::uint32_t frame) const;
   void compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu);
   CheckResult result() const;
@@ -54,7 +55,7 @@ class RealtimeReferenceCheck {
     Comparison per_frame;  // chain A's frame, noise scaled to one chain
     ComparisonVerdict verdict;
     double temporal_edge_relmse, reference_seconds;
-    bool reference_cached;
+    bool reference_cached, full_gi;
     std::string evidence;
   };
   ReferenceCheckParams params_;

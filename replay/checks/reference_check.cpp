@@ -52,6 +52,17 @@ ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenari
   p.relmse_noise_factor = number_param(spec, "relmse_noise_factor", p.relmse_noise_factor);
   p.energy_tolerance = number_param(spec, "energy_tolerance", p.energy_tolerance);
   p.relmse_tolerance = number_param(spec, "relmse_tolerance", p.relmse_tolerance);
+  if (spec.params.contains("warmup_frames")) {
+    const nlohmann::json& w = spec.params["warmup_frames"];
+    if (scenario.mode != RenderMode::Realtime)
+      throw InputError(scenario.file.string(), spec.json_path + "/warmup_frames",
+                       "warmup_frames only in realtime mode (the reference mode's estimate has no warm-up)");
+    const std::uint32_t first = *std::min_element(p.frames.begin(), p.frames.end());
+    if (!w.is_number_unsigned() || w.get<std::uint64_t>() > first)
+      throw InputError(scenario.file.string(), spec.json_path + "/warmup_frames",
+                       fmt::format("expected a frame count no larger than the first compared frame {}", first));
+    p.warmup_frames = w.get<std::uint32_t>();
+  }
   return p;
 }
 

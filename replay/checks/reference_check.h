@@ -19,6 +19,11 @@ struct ReferenceCheckParams {
   double relmse_noise_factor = 3.0;   // relMSE ≤ factor × combined noise
   double energy_tolerance = 0.01;     // |energy ratio − 1| ≤ tolerance
   double relmse_tolerance = 0.0;      // allowed bias in relMSE (0: none)
+  // Realtime mode only: frames after the start of each static window that the
+  // temporal mean leaves out, so the comparison judges the pipeline's steady
+  // state (a world cache converging over ~100 frames), not its warm-up; the
+  // warm-up itself is the blend_lag check's business. 0: the whole window.
+  std::uint32_t warmup_frames = 0;
 };
 
 // Reads the check's parameters; InputError at <check json_path>/<key>.
