@@ -162,11 +162,10 @@ int run_sweep(const SweepOptions& o) {
     ref_options.height = s.resolution[1];
     ref_options.spp = reference_spp;
     ref_options.seed = s.seed;
-    // The realtime mode's output is direct lighting only today (run_scenario
-    // captures the DI signal), so its reference and its Embree peer are the
-    // DI-only integrator, as in the realtime reference check. When the GI
-    // passes land and the realtime output is the full image, drop this.
-    ref_options.direct_only = s.mode == RenderMode::Realtime;
+    // The realtime mode's output is DI alone unless the scenario runs GI
+    // ("gi": true: DI + GI + specular); its reference and its Embree peer
+    // integrate the same, as the realtime reference check does.
+    ref_options.direct_only = s.mode == RenderMode::Realtime && !s.gi;
     bool hit = false;
     const ReferenceResult reference = cached_reference(scene, ref_options, cache_root() / "reference", &hit);
     const double reference_noise = estimator_noise(reference.half_a, reference.half_b, reference.mean);
@@ -209,7 +208,7 @@ int run_sweep(const SweepOptions& o) {
                              {"calibration", {{"fixed_ms", json_figure(cost.fixed_s * 1000.0)},
                                               {"per_spp_ms", json_figure(cost.per_spp_s * 1000.0)}}},
                              {"relmse", json_figure(embree_relmse)}});
-    spdlog::info("[{}/{}] {}: {:.3f} ms/frame, relMSE {:.4g}; Embree {} spp in {:.3f} ms: relMSE {:.4g} ({:.1f}x the GPU's)",
+    spdlog::info("[{}/{}] {}: {:.3f} ms/frame, relMSE {:.4g}; Embree {} spp in {:.3f} ms: relMSE {:.4g} ({:.3g}x the GPU's)",
                  i + 1, points.size(), p.label(), ms, gpu_relmse, eq.spp, embree.seconds * 1000.0, embree_relmse,
                  embree_relmse / gpu_relmse);
     sweep["reference"] = references;

@@ -75,5 +75,20 @@ TEST(Sweep, ErrorAgainstTimeWithEmbreeAtEqualTime) {
   EXPECT_NE(html.find("data:image/svg+xml;base64,"), std::string::npos);
 }
 
+// A GI scenario's realtime image is DI + GI + specular: the sweep must judge
+// it (and run its Embree peer) with the full path tracer, not DI alone.
+TEST(Sweep, GiScenarioIsComparedWithTheFullGiReference) {
+  test::TempDir dir("sweep_gi");
+  const std::filesystem::path scenario = test::source_dir() / "scenarios/gi_cornell_box.json";
+  const test::CommandResult r = test::run_giharness("sweep " + scenario.string() +
+                                                    " --vary resolution=32x18 --reference-spp 64 --out " +
+                                                    dir.path().string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json sweep = test::read_json(dir.path() / "sweep.json");
+  ASSERT_EQ(sweep["reference"].size(), 1u) << sweep.dump(2);
+  EXPECT_EQ(sweep["reference"][0]["direct_only"], false) << sweep["reference"].dump(2);
+  for (const nlohmann::json& row : sweep["rows"]) EXPECT_TRUE(row["relmse"].is_number()) << row.dump();
+}
+
 }  // namespace
 }  // namespace gi
