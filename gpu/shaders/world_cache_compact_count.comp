@@ -5,18 +5,18 @@
 
 layout(local_size_x = WORLD_CACHE_SCAN_THREADS) in;
 
-shared uint partial[WORLD_CACHE_SCAN_THREADS];
+// An integer atomic sum: the same count in any order, with two barriers
+// instead of a tree's eight (barriers are what a block costs on lavapipe).
+shared uint block_count;
 
 void main() {
   uint t = gl_LocalInvocationID.x;
+  if (t == 0u) block_count = 0u;
+  barrier();
   uint base = gl_WorkGroupID.x * WORLD_CACHE_SCAN_BLOCK + t * 4u;
   uint n = 0u;
   for (uint k = 0u; k < 4u; ++k) n += wc_life[base + k] != 0u ? 1u : 0u;
-  partial[t] = n;
+  if (n != 0u) atomicAdd(block_count, n);
   barrier();
-  for (uint stride = WORLD_CACHE_SCAN_THREADS / 2u; stride > 0u; stride /= 2u) {
-    if (t < stride) partial[t] += partial[t + stride];
-    barrier();
-  }
-  if (t == 0u) wc_block_sums[gl_WorkGroupID.x] = partial[0];
+  if (t == 0u) wc_block_sums[gl_WorkGroupID.x] = block_count;
 }

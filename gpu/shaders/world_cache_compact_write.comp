@@ -9,6 +9,14 @@ layout(local_size_x = WORLD_CACHE_SCAN_THREADS) in;
 shared uint partial[WORLD_CACHE_SCAN_THREADS];
 
 void main() {
+  // The block's live count from the exclusive offsets the scan left: an
+  // empty block (most of the table in a small scene) writes nothing and
+  // skips the scan below (uniform over the group, so no barrier is skipped
+  // by half of it).
+  uint block = gl_WorkGroupID.x;
+  uint blocks = uint(WORLD_CACHE_CELLS) / WORLD_CACHE_SCAN_BLOCK;
+  uint block_end = block + 1u < blocks ? wc_block_sums[block + 1u] : wc_counters.active_args.w;
+  if (block_end == wc_block_sums[block]) return;
   uint t = gl_LocalInvocationID.x;
   uint base = gl_WorkGroupID.x * WORLD_CACHE_SCAN_BLOCK + t * 4u;
   uint n = 0u;
