@@ -5,36 +5,6 @@
 namespace gi {
 namespace {
 
-Material diffuse(const std::string& name, glm::vec3 albedo) {
-  Material m;
-  m.name = name;
-  m.base_color = albedo;
-  m.perceptual_roughness = 1.0f;
-  m.reflectance = 0.0f;  // pure Lambert: the cache's own model of a surface
-  return m;
-}
-
-Material emitter(const std::string& name, glm::vec3 radiance) {
-  Material m = diffuse(name, glm::vec3(0.0f));
-  m.emissive = radiance;
-  return m;
-}
-
-// Axis-aligned box, faces outwards (blocks) or inwards (a room's shell).
-Mesh box(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards = false) {
-  Mesh m{name};
-  const glm::vec3 c = 0.5f * (lo + hi);
-  auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
-  const bool away = !inwards;
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 1, 0), P(0, 1, 0), c, away);
-  add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, away);
-  add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, away);
-  add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, away);
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, away);
-  add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, away);
-  return m;
-}
-
 // The room: x, z in [−2, 2], y in [0, 3]; walls face inwards. With a doorway,
 // the +z wall has a 1.2 × 2.2 m opening at x in [−0.6, 0.6].
 Mesh room_shell(bool doorway) {
@@ -56,15 +26,15 @@ Mesh room_shell(bool doorway) {
 }
 
 void add_room(Scene& s, bool doorway) {
-  add_object(s, room_shell(doorway), diffuse("room", glm::vec3(0.55f, 0.53f, 0.5f)));
-  add_object(s, box("red_block", {-1.6f, 0.0f, -1.6f}, {-0.8f, 1.0f, -0.8f}), diffuse("red_block", {0.7f, 0.15f, 0.12f}));
-  add_object(s, box("green_block", {0.7f, 0.0f, -1.2f}, {1.5f, 0.6f, -0.4f}),
-             diffuse("green_block", {0.15f, 0.6f, 0.2f}));
+  add_object(s, room_shell(doorway), lambert_material("room", glm::vec3(0.55f, 0.53f, 0.5f)));
+  add_object(s, box_mesh("red_block", {-1.6f, 0.0f, -1.6f}, {-0.8f, 1.0f, -0.8f}), lambert_material("red_block", {0.7f, 0.15f, 0.12f}));
+  add_object(s, box_mesh("green_block", {0.7f, 0.0f, -1.2f}, {1.5f, 0.6f, -0.4f}),
+             lambert_material("green_block", {0.15f, 0.6f, 0.2f}));
   // The ceiling panel faces down, a little below the ceiling.
   Mesh light{"light"};
   add_quad(light, {-0.5f, 2.98f, -0.5f}, {0.5f, 2.98f, -0.5f}, {0.5f, 2.98f, 0.5f}, {-0.5f, 2.98f, 0.5f},
            {0.0f, 0.0f, 0.0f});
-  add_object(s, std::move(light), emitter("light", glm::vec3(12.0f, 11.0f, 9.5f)));
+  add_object(s, std::move(light), emitter_material("light", glm::vec3(12.0f, 11.0f, 9.5f)));
 }
 
 void add_sun(Scene& s) {
@@ -94,11 +64,11 @@ Scene make_cache_room_and_yard() {
   add_room(s, true);
   Mesh yard{"yard"};
   add_quad(yard, {-30, -0.01f, 2}, {30, -0.01f, 2}, {30, -0.01f, 62}, {-30, -0.01f, 62}, {0, 1, 30});
-  add_object(s, std::move(yard), diffuse("yard", glm::vec3(0.45f, 0.5f, 0.4f)));
+  add_object(s, std::move(yard), lambert_material("yard", glm::vec3(0.45f, 0.5f, 0.4f)));
   for (int i = 0; i < 8; ++i) {
     const float x = -21.0f + 6.0f * float(i), z = 14.0f + 3.0f * float(i % 3);
-    add_object(s, box("yard_block_" + std::to_string(i), {x, 0.0f, z}, {x + 2.0f, 1.0f + 0.5f * float(i % 4), z + 2.0f}),
-               diffuse("yard_block_" + std::to_string(i), glm::vec3(0.6f, 0.55f, 0.5f)));
+    add_object(s, box_mesh("yard_block_" + std::to_string(i), {x, 0.0f, z}, {x + 2.0f, 1.0f + 0.5f * float(i % 4), z + 2.0f}),
+               lambert_material("yard_block_" + std::to_string(i), glm::vec3(0.6f, 0.55f, 0.5f)));
   }
   add_sun(s);
   s.camera.position = {0.0f, 1.6f, 1.0f};
@@ -112,7 +82,7 @@ Scene make_cache_open_field() {
   s.name = "cache_open_field";
   Mesh ground{"ground"};
   add_quad(ground, {-200, 0, -200}, {200, 0, -200}, {200, 0, 200}, {-200, 0, 200}, {0, 1, 0});
-  add_object(s, std::move(ground), diffuse("ground", glm::vec3(0.4f, 0.45f, 0.35f)));
+  add_object(s, std::move(ground), lambert_material("ground", glm::vec3(0.4f, 0.45f, 0.35f)));
   // Blocks on a 20 m grid out to 180 m: near ones fine cells, far ones coarse.
   int n = 0;
   for (int i = -9; i <= 9; ++i)
@@ -120,7 +90,7 @@ Scene make_cache_open_field() {
       if ((i * 7 + j * 3) % 4 != 0) continue;
       const float x = 20.0f * float(i), z = 20.0f * float(j), h = 2.0f + float((i * i + j) % 5);
       const std::string name = "block_" + std::to_string(n++);
-      add_object(s, box(name, {x - 2.0f, 0.0f, z - 2.0f}, {x + 2.0f, h, z + 2.0f}), diffuse(name, glm::vec3(0.6f)));
+      add_object(s, box_mesh(name, {x - 2.0f, 0.0f, z - 2.0f}, {x + 2.0f, h, z + 2.0f}), lambert_material(name, glm::vec3(0.6f)));
     }
   add_sun(s);
   s.camera.position = {3.0f, 2.0f, 3.0f};

@@ -8,15 +8,6 @@ namespace {
 constexpr float mm = 0.001f;
 glm::vec3 P(float x, float y, float z) { return glm::vec3(x, y, z) * mm; }
 
-Material diffuse(const char* name, glm::vec3 albedo) {
-  Material m;
-  m.name = name;
-  m.base_color = albedo;
-  m.perceptual_roughness = 1.0f;
-  m.reflectance = 0.0f;  // a pure Lambert surface, as in the original data
-  return m;
-}
-
 // The blocks' faces, each listed as in the data set (top first).
 void add_block(Mesh& mesh, const glm::vec3 (&q)[5][4]) {
   glm::vec3 centre(0.0f);
@@ -38,15 +29,15 @@ Scene make_cornell_box(const CornellBoxOptions& o) {
   add_quad(room, P(552.8f, 0, 0), P(0, 0, 0), P(0, 0, 559.2f), P(549.6f, 0, 559.2f), inside);
   add_quad(room, P(556, 548.8f, 0), P(556, 548.8f, 559.2f), P(0, 548.8f, 559.2f), P(0, 548.8f, 0), inside);
   add_quad(room, P(549.6f, 0, 559.2f), P(0, 0, 559.2f), P(0, 548.8f, 559.2f), P(556, 548.8f, 559.2f), inside);
-  add_object(s, std::move(room), diffuse("white", white));
+  add_object(s, std::move(room), lambert_material("white", white));
 
   Mesh red{"red_wall"};
   add_quad(red, P(552.8f, 0, 0), P(549.6f, 0, 559.2f), P(556, 548.8f, 559.2f), P(556, 548.8f, 0), inside);
-  add_object(s, std::move(red), diffuse("red", glm::vec3(0.63f, 0.065f, 0.05f) * k));
+  add_object(s, std::move(red), lambert_material("red", glm::vec3(0.63f, 0.065f, 0.05f) * k));
 
   Mesh green{"green_wall"};
   add_quad(green, P(0, 0, 559.2f), P(0, 0, 0), P(0, 548.8f, 0), P(0, 548.8f, 559.2f), inside);
-  add_object(s, std::move(green), diffuse("green", glm::vec3(0.14f, 0.45f, 0.091f) * k));
+  add_object(s, std::move(green), lambert_material("green", glm::vec3(0.14f, 0.45f, 0.091f) * k));
 
   if (o.blocks) {
     const glm::vec3 short_block[5][4] = {
@@ -63,10 +54,10 @@ Scene make_cornell_box(const CornellBoxOptions& o) {
         {P(265, 0, 296), P(265, 330, 296), P(423, 330, 247), P(423, 0, 247)}};
     Mesh sb{"short_block"};
     add_block(sb, short_block);
-    add_object(s, std::move(sb), diffuse("short_block", white));
+    add_object(s, std::move(sb), lambert_material("short_block", white));
     Mesh tb{"tall_block"};
     add_block(tb, tall_block);
-    add_object(s, std::move(tb), diffuse("tall_block", white));
+    add_object(s, std::move(tb), lambert_material("tall_block", white));
   }
 
   // The light sits 0.5 mm below the ceiling (the data set cuts a hole instead)
@@ -74,7 +65,7 @@ Scene make_cornell_box(const CornellBoxOptions& o) {
   Mesh light{"light"};
   const float y = 548.3f;
   add_quad(light, P(343, y, 227), P(343, y, 332), P(213, y, 332), P(213, y, 227), P(278, 0, 279.5f));
-  Material emitter = diffuse("light", glm::vec3(0.78f));
+  Material emitter = lambert_material("light", glm::vec3(0.78f));
   emitter.emissive = glm::vec3(17.0f, 12.0f, 4.0f) * o.light_scale;
   add_object(s, std::move(light), emitter);
 

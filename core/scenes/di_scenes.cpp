@@ -7,35 +7,6 @@
 namespace gi {
 namespace {
 
-Material diffuse(const std::string& name, glm::vec3 albedo) {
-  Material m;
-  m.name = name;
-  m.base_color = albedo;
-  m.perceptual_roughness = 1.0f;
-  m.reflectance = 0.0f;  // pure Lambert, like the Cornell box
-  return m;
-}
-
-Material emitter(const std::string& name, glm::vec3 radiance) {
-  Material m = diffuse(name, glm::vec3(0.0f));
-  m.emissive = radiance;
-  return m;
-}
-
-// Axis-aligned box with outward faces.
-Mesh box(const std::string& name, glm::vec3 lo, glm::vec3 hi) {
-  Mesh m{name};
-  const glm::vec3 c = 0.5f * (lo + hi);
-  auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 1, 0), P(0, 1, 0), c, true);
-  add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, true);
-  add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, true);
-  add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, true);
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, true);
-  add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, true);
-  return m;
-}
-
 // Horizontal quad at height y facing down (an emitter) or up (a floor).
 Mesh horizontal(const std::string& name, float x0, float x1, float z0, float z1, float y, bool facing_down) {
   Mesh m{name};
@@ -50,7 +21,7 @@ glm::vec3 hue(float h) {
 }
 
 void add_floor(Scene& s, float half) {
-  add_object(s, horizontal("floor", -half, half, -half, half, 0.0f, false), diffuse("floor", glm::vec3(0.7f)));
+  add_object(s, horizontal("floor", -half, half, -half, half, 0.0f, false), lambert_material("floor", glm::vec3(0.7f)));
 }
 
 }  // namespace
@@ -59,8 +30,8 @@ Scene make_di_many_lights() {
   Scene s;
   s.name = "di_many_lights";
   add_floor(s, 4.0f);
-  add_object(s, box("box_a", {-1.2f, 0.0f, -0.6f}, {-0.4f, 0.8f, 0.2f}), diffuse("box_a", glm::vec3(0.6f, 0.6f, 0.55f)));
-  add_object(s, box("box_b", {0.5f, 0.0f, 0.3f}, {1.1f, 0.5f, 0.9f}), diffuse("box_b", glm::vec3(0.5f, 0.55f, 0.6f)));
+  add_object(s, box_mesh("box_a", {-1.2f, 0.0f, -0.6f}, {-0.4f, 0.8f, 0.2f}), lambert_material("box_a", glm::vec3(0.6f, 0.6f, 0.55f)));
+  add_object(s, box_mesh("box_b", {0.5f, 0.0f, 0.3f}, {1.1f, 0.5f, 0.9f}), lambert_material("box_b", glm::vec3(0.5f, 0.55f, 0.6f)));
   // 32 × 16 small quads at 2 m, facing down, colours around the hue circle
   // and brightness varying over a decade.
   int n = 0;
@@ -70,7 +41,7 @@ Scene make_di_many_lights() {
       const float bright = 2.0f + 18.0f * float((n * 37) % 11) / 10.0f;
       const std::string name = "light_" + std::to_string(n);
       add_object(s, horizontal(name, x, x + 0.08f, z, z + 0.08f, 2.0f, true),
-                 emitter(name, bright * (0.15f + 0.85f * hue(float((n * 7) % 64) / 64.0f))));
+                 emitter_material(name, bright * (0.15f + 0.85f * hue(float((n * 7) % 64) / 64.0f))));
     }
   s.camera.position = {0.0f, 2.6f, 4.2f};
   s.camera.target = {0.0f, 0.2f, 0.0f};
@@ -82,8 +53,8 @@ Scene make_di_occluder() {
   Scene s;
   s.name = "di_occluder";
   add_floor(s, 3.0f);
-  add_object(s, box("occluder", {-0.3f, 0.6f, -0.3f}, {0.3f, 0.7f, 0.3f}), diffuse("occluder", glm::vec3(0.5f)));
-  add_object(s, horizontal("light", -0.5f, 0.5f, -0.5f, 0.5f, 1.6f, true), emitter("light", glm::vec3(8.0f, 7.0f, 6.0f)));
+  add_object(s, box_mesh("occluder", {-0.3f, 0.6f, -0.3f}, {0.3f, 0.7f, 0.3f}), lambert_material("occluder", glm::vec3(0.5f)));
+  add_object(s, horizontal("light", -0.5f, 0.5f, -0.5f, 0.5f, 1.6f, true), emitter_material("light", glm::vec3(8.0f, 7.0f, 6.0f)));
   s.camera.position = {0.0f, 2.2f, 3.0f};
   s.camera.target = {0.0f, 0.3f, 0.0f};
   s.camera.vertical_fov_degrees = 45.0f;
@@ -94,9 +65,9 @@ Scene make_di_packing_range() {
   Scene s;
   s.name = "di_packing_range";
   add_floor(s, 3.0f);
-  add_object(s, box("block", {-0.2f, 0.0f, -0.2f}, {0.2f, 0.4f, 0.2f}), diffuse("block", glm::vec3(0.6f)));
-  add_object(s, horizontal("bright", 0.79f, 0.81f, -0.01f, 0.01f, 1.2f, true), emitter("bright", glm::vec3(3e5f, 2.5e5f, 2e5f)));
-  add_object(s, horizontal("dim", -1.6f, -0.6f, -0.5f, 0.5f, 1.5f, true), emitter("dim", glm::vec3(1.0f)));
+  add_object(s, box_mesh("block", {-0.2f, 0.0f, -0.2f}, {0.2f, 0.4f, 0.2f}), lambert_material("block", glm::vec3(0.6f)));
+  add_object(s, horizontal("bright", 0.79f, 0.81f, -0.01f, 0.01f, 1.2f, true), emitter_material("bright", glm::vec3(3e5f, 2.5e5f, 2e5f)));
+  add_object(s, horizontal("dim", -1.6f, -0.6f, -0.5f, 0.5f, 1.5f, true), emitter_material("dim", glm::vec3(1.0f)));
   s.camera.position = {0.0f, 2.4f, 3.2f};
   s.camera.target = {0.0f, 0.2f, 0.0f};
   s.camera.vertical_fov_degrees = 50.0f;

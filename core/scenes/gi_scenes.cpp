@@ -7,30 +7,6 @@
 namespace gi {
 namespace {
 
-Material diffuse(const std::string& name, glm::vec3 albedo) {
-  Material m;
-  m.name = name;
-  m.base_color = albedo;
-  m.perceptual_roughness = 1.0f;
-  m.reflectance = 0.0f;  // pure Lambert
-  return m;
-}
-
-Material emitter(const std::string& name, glm::vec3 radiance) {
-  Material m = diffuse(name, glm::vec3(0.0f));
-  m.emissive = radiance;
-  return m;
-}
-
-Material metal(const std::string& name, glm::vec3 base, float roughness) {
-  Material m;
-  m.name = name;
-  m.base_color = base;
-  m.metallic = 1.0f;
-  m.perceptual_roughness = roughness;
-  return m;
-}
-
 // An axis-aligned room [lo, hi] with inward faces, one mesh per wall (own
 // materials), and a square ceiling emitter of half-size `light` just below it.
 void add_room(Scene& s, glm::vec3 lo, glm::vec3 hi, float light, glm::vec3 radiance) {
@@ -48,13 +24,13 @@ void add_room(Scene& s, glm::vec3 lo, glm::vec3 hi, float light, glm::vec3 radia
   for (const Wall& w : walls) {
     Mesh m{w.name};
     add_quad(m, w.a, w.b, w.cc, w.d, c);
-    add_object(s, std::move(m), diffuse(w.name, w.albedo));
+    add_object(s, std::move(m), lambert_material(w.name, w.albedo));
   }
   Mesh l{"light"};
   const float y = hi.y - 0.01f;
   add_quad(l, {c.x - light, y, c.z - light}, {c.x + light, y, c.z - light}, {c.x + light, y, c.z + light},
            {c.x - light, y, c.z + light}, {c.x, lo.y, c.z});
-  add_object(s, std::move(l), emitter("light", radiance));
+  add_object(s, std::move(l), emitter_material("light", radiance));
 }
 
 // Both faces of a thin slab [lo, hi] (outward).
@@ -86,9 +62,9 @@ Scene make_gi_corners() {
   const glm::vec3 inside(0.2f, 0.5f * h, -0.9f + 0.5f * len);
   add_quad(wedge, apex, a, a + glm::vec3(0, h, 0), apex_top, inside);
   add_quad(wedge, apex, b, b + glm::vec3(0, h, 0), apex_top, inside);
-  add_object(s, std::move(wedge), diffuse("wedge", glm::vec3(0.75f)));
+  add_object(s, std::move(wedge), lambert_material("wedge", glm::vec3(0.75f)));
   // A thin wall, 1 cm thick, standing free on the floor.
-  add_object(s, slab("thin_wall", {-0.7f, 0.0f, -0.3f}, {-0.1f, 1.0f, -0.29f}), diffuse("thin_wall", glm::vec3(0.6f)));
+  add_object(s, slab("thin_wall", {-0.7f, 0.0f, -0.3f}, {-0.1f, 1.0f, -0.29f}), lambert_material("thin_wall", glm::vec3(0.6f)));
   s.camera.position = {-0.3f, 1.0f, 0.9f};
   s.camera.target = {0.1f, 0.4f, -0.8f};
   s.camera.vertical_fov_degrees = 55.0f;
@@ -102,15 +78,15 @@ Scene make_gi_mirror() {
   Mesh mirror{"mirror"};
   add_quad(mirror, {-0.6f, 0.3f, -0.98f}, {0.6f, 0.3f, -0.98f}, {0.6f, 1.5f, -0.98f}, {-0.6f, 1.5f, -0.98f},
            {0.0f, 1.0f, 0.0f});
-  add_object(s, std::move(mirror), metal("mirror", glm::vec3(0.95f), 0.0f));
+  add_object(s, std::move(mirror), metal_material("mirror", glm::vec3(0.95f), 0.0f));
   Mesh glossy{"glossy_floor_tile"};
   add_quad(glossy, {-0.9f, 0.001f, -0.9f}, {0.9f, 0.001f, -0.9f}, {0.9f, 0.001f, 0.2f}, {-0.9f, 0.001f, 0.2f},
            {0.0f, 1.0f, 0.0f});
-  Material g = diffuse("glossy", glm::vec3(0.3f, 0.3f, 0.5f));
+  Material g = lambert_material("glossy", glm::vec3(0.3f, 0.3f, 0.5f));
   g.perceptual_roughness = 0.3f;
   g.reflectance = 0.5f;
   add_object(s, std::move(glossy), g);
-  add_object(s, slab("block", {0.3f, 0.0f, -0.2f}, {0.7f, 0.5f, 0.2f}), diffuse("block", glm::vec3(0.8f, 0.7f, 0.3f)));
+  add_object(s, slab("block", {0.3f, 0.0f, -0.2f}, {0.7f, 0.5f, 0.2f}), lambert_material("block", glm::vec3(0.8f, 0.7f, 0.3f)));
   s.camera.position = {0.0f, 1.0f, 0.95f};
   s.camera.target = {0.0f, 0.8f, -1.0f};
   s.camera.vertical_fov_degrees = 60.0f;
@@ -123,10 +99,10 @@ Scene make_gi_hard_cases() {
   // A long floor seen at a grazing angle, a back wall.
   Mesh floor{"floor"};
   add_quad(floor, {-2.0f, 0.0f, -20.0f}, {2.0f, 0.0f, -20.0f}, {2.0f, 0.0f, 1.0f}, {-2.0f, 0.0f, 1.0f}, {0, 1, 0});
-  add_object(s, std::move(floor), diffuse("floor", glm::vec3(0.6f)));
+  add_object(s, std::move(floor), lambert_material("floor", glm::vec3(0.6f)));
   Mesh back{"back"};
   add_quad(back, {-2.0f, 0.0f, -20.0f}, {2.0f, 0.0f, -20.0f}, {2.0f, 3.0f, -20.0f}, {-2.0f, 3.0f, -20.0f}, {0, 1, 0});
-  add_object(s, std::move(back), diffuse("back", glm::vec3(0.5f)));
+  add_object(s, std::move(back), lambert_material("back", glm::vec3(0.5f)));
   // Emitters 1e-4, 1, 1e6 (the last tiny: 2 cm) facing down.
   const float radiance[] = {1e-4f, 1.0f, 1e6f};
   const float half[] = {0.5f, 0.5f, 0.01f};
@@ -136,13 +112,13 @@ Scene make_gi_hard_cases() {
     Mesh l{name};
     add_quad(l, {x - half[i], 2.0f, z - half[i]}, {x + half[i], 2.0f, z - half[i]}, {x + half[i], 2.0f, z + half[i]},
              {x - half[i], 2.0f, z + half[i]}, {x, 0.0f, z});
-    add_object(s, std::move(l), emitter(name, glm::vec3(radiance[i])));
+    add_object(s, std::move(l), emitter_material(name, glm::vec3(radiance[i])));
   }
   // A zero-roughness mirror standing on the floor.
   Mesh mirror{"mirror"};
   add_quad(mirror, {-1.5f, 0.0f, -8.0f}, {-0.5f, 0.0f, -7.0f}, {-0.5f, 1.5f, -7.0f}, {-1.5f, 1.5f, -8.0f},
            {0.0f, 0.5f, 0.0f});
-  add_object(s, std::move(mirror), metal("mirror", glm::vec3(0.9f), 0.0f));
+  add_object(s, std::move(mirror), metal_material("mirror", glm::vec3(0.9f), 0.0f));
   // Degenerate and sliver triangles above the floor.
   Mesh odd{"degenerate_and_slivers"};
   const glm::vec3 p(0.5f, 0.3f, -3.0f);
@@ -151,7 +127,7 @@ Scene make_gi_hard_cases() {
                    p + glm::vec3(0, 0.4f, 0), p + glm::vec3(1, 0.4f, 0), p + glm::vec3(0.5f, 0.4001f, 0.0f),  // sliver 1e4
                    p + glm::vec3(0, 0.5f, 0), p + glm::vec3(0, 0.5f, -1), p + glm::vec3(1e-4f, 0.5f, -0.5f)};
   odd.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
-  add_object(s, std::move(odd), diffuse("odd", glm::vec3(0.8f)));
+  add_object(s, std::move(odd), lambert_material("odd", glm::vec3(0.8f)));
   s.camera.position = {0.0f, 0.15f, 0.8f};
   s.camera.target = {0.0f, 0.05f, -10.0f};
   s.camera.vertical_fov_degrees = 50.0f;

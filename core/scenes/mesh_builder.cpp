@@ -25,4 +25,42 @@ std::uint32_t add_object(Scene& scene, Mesh mesh, Material material, glm::mat4 t
   return static_cast<std::uint32_t>(scene.instances.size() - 1);
 }
 
+Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards) {
+  Mesh m{name};
+  const glm::vec3 c = 0.5f * (lo + hi);
+  auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
+  const bool away = !inwards;
+  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 1, 0), P(0, 1, 0), c, away);
+  add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, away);
+  add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, away);
+  add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, away);
+  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, away);
+  add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, away);
+  return m;
+}
+
+Material lambert_material(const std::string& name, glm::vec3 albedo) {
+  Material m;
+  m.name = name;
+  m.base_color = albedo;
+  m.perceptual_roughness = 1.0f;
+  m.reflectance = 0.0f;
+  return m;
+}
+
+Material emitter_material(const std::string& name, glm::vec3 radiance) {
+  Material m = lambert_material(name, glm::vec3(0.0f));
+  m.emissive = radiance;
+  return m;
+}
+
+Material metal_material(const std::string& name, glm::vec3 base_color, float perceptual_roughness) {
+  Material m;
+  m.name = name;
+  m.base_color = base_color;
+  m.metallic = 1.0f;
+  m.perceptual_roughness = perceptual_roughness;
+  return m;
+}
+
 }  // namespace gi
