@@ -33,19 +33,6 @@ void add_room(Scene& s, glm::vec3 lo, glm::vec3 hi, float light, glm::vec3 radia
   add_object(s, std::move(l), emitter_material("light", radiance));
 }
 
-// Both faces of a thin slab [lo, hi] (outward).
-Mesh slab(const std::string& name, glm::vec3 lo, glm::vec3 hi) {
-  Mesh m{name};
-  const glm::vec3 c = 0.5f * (lo + hi);
-  auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 1, 0), P(0, 1, 0), c, true);
-  add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, true);
-  add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, true);
-  add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, true);
-  add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, true);
-  return m;
-}
-
 }  // namespace
 
 Scene make_gi_corners() {
@@ -64,7 +51,8 @@ Scene make_gi_corners() {
   add_quad(wedge, apex, b, b + glm::vec3(0, h, 0), apex_top, inside);
   add_object(s, std::move(wedge), lambert_material("wedge", glm::vec3(0.75f)));
   // A thin wall, 1 cm thick, standing free on the floor.
-  add_object(s, slab("thin_wall", {-0.7f, 0.0f, -0.3f}, {-0.1f, 1.0f, -0.29f}), lambert_material("thin_wall", glm::vec3(0.6f)));
+  add_object(s, box_mesh("thin_wall", {-0.7f, 0.0f, -0.3f}, {-0.1f, 1.0f, -0.29f}, false, /*open_bottom=*/true),
+             lambert_material("thin_wall", glm::vec3(0.6f)));
   s.camera.position = {-0.3f, 1.0f, 0.9f};
   s.camera.target = {0.1f, 0.4f, -0.8f};
   s.camera.vertical_fov_degrees = 55.0f;
@@ -86,7 +74,8 @@ Scene make_gi_mirror() {
   g.perceptual_roughness = 0.3f;
   g.reflectance = 0.5f;
   add_object(s, std::move(glossy), g);
-  add_object(s, slab("block", {0.3f, 0.0f, -0.2f}, {0.7f, 0.5f, 0.2f}), lambert_material("block", glm::vec3(0.8f, 0.7f, 0.3f)));
+  add_object(s, box_mesh("block", {0.3f, 0.0f, -0.2f}, {0.7f, 0.5f, 0.2f}, false, /*open_bottom=*/true),
+             lambert_material("block", glm::vec3(0.8f, 0.7f, 0.3f)));
   s.camera.position = {0.0f, 1.0f, 0.95f};
   s.camera.target = {0.0f, 0.8f, -1.0f};
   s.camera.vertical_fov_degrees = 60.0f;

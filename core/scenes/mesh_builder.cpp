@@ -25,7 +25,7 @@ std::uint32_t add_object(Scene& scene, Mesh mesh, Material material, glm::mat4 t
   return static_cast<std::uint32_t>(scene.instances.size() - 1);
 }
 
-Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards) {
+Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards, bool open_bottom) {
   Mesh m{name};
   const glm::vec3 c = 0.5f * (lo + hi);
   auto P = [&](int x, int y, int z) { return glm::vec3(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
@@ -34,7 +34,7 @@ Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards)
   add_quad(m, P(0, 0, 1), P(1, 0, 1), P(1, 1, 1), P(0, 1, 1), c, away);
   add_quad(m, P(0, 0, 0), P(0, 1, 0), P(0, 1, 1), P(0, 0, 1), c, away);
   add_quad(m, P(1, 0, 0), P(1, 1, 0), P(1, 1, 1), P(1, 0, 1), c, away);
-  add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, away);
+  if (!open_bottom) add_quad(m, P(0, 0, 0), P(1, 0, 0), P(1, 0, 1), P(0, 0, 1), c, away);
   add_quad(m, P(0, 1, 0), P(1, 1, 0), P(1, 1, 1), P(0, 1, 1), c, away);
   return m;
 }

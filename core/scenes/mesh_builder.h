@@ -15,8 +15,9 @@ void add_quad(Mesh& mesh, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, gl
 // Adds mesh + material + instance and returns the instance index.
 std::uint32_t add_object(Scene& scene, Mesh mesh, Material material, glm::mat4 transform = glm::mat4(1.0f));
 
-// Axis-aligned box [lo, hi], faces outwards (a block) or inwards (a room's shell).
-Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards = false);
+// Axis-aligned box [lo, hi], faces outwards (a block) or inwards (a room's
+// shell); open_bottom leaves out the y = lo face (a slab standing on a floor).
+Mesh box_mesh(const std::string& name, glm::vec3 lo, glm::vec3 hi, bool inwards = false, bool open_bottom = false);
 
 // A pure Lambert surface: reflectance 0 leaves no specular lobe (the Cornell
 // box's data, and the world cache's own model of a surface).

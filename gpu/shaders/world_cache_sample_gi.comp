@@ -48,6 +48,8 @@ void main() {
     vec3 ns = dot(s.shading_normal, hit_normal) < 0.0 ? -s.shading_normal : s.shading_normal;
     irradiance = PI * secondary_hit_radiance(hit, s, hit_normal, ns, dir, q, rng);
 #else
+    // Solari's formula as it was (ρ · E, not π · ρ/π · E through
+    // end_path_radiance), so the diffuse cache keeps its bits and baselines.
     GpuMaterial m = scene_material(s.material);
     vec3 diffuse = m.base_color_metallic.rgb * (1.0 - m.base_color_metallic.a);
     irradiance = diffuse * world_cache_query(hit_position, hit_normal, life, state.y, cell, 0u);
