@@ -109,6 +109,10 @@ double estimator_noise(const Image& half_a, const Image& half_b, const Image& de
   return n ? sum / double(n) / 4.0 : 0.0;
 }
 
+double chain_noise(const Image& chain_a, const Image& chain_b, const Image& denominator_ref) {
+  return 2.0 * estimator_noise(chain_a, chain_b, denominator_ref);
+}
+
 double mean_luminance_sigma(const Image& half_a, const Image& half_b) {
   require_same_size(half_a, half_b, "mean_luminance_sigma");
   double sum = 0;

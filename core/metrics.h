@@ -34,6 +34,11 @@ double mean_luminance(const Image& x);
 // difference:  mean((a−b)² / (ref² + 0.01)) / 4.
 double estimator_noise(const Image& half_a, const Image& half_b, const Image& denominator_ref);
 
+// Per-frame noise of one chain, from two independent chains a and b of the
+// same frame: its expected relMSE against its own expectation,
+//   mean((a−b)² / 2 / (ref² + 0.01)) = 2 · estimator_noise(a, b, ref).
+double chain_noise(const Image& chain_a, const Image& chain_b, const Image& denominator_ref);
+
 // Standard deviation of mean_luminance((a+b)/2) due to sampling noise,
 // treating pixels as independent: sqrt(Σ_p (lum a_p − lum b_p)² / 4) / P.
 double mean_luminance_sigma(const Image& half_a, const Image& half_b);

@@ -44,7 +44,7 @@ const ScenarioKeys& scenario_keys() {
   static const ScenarioKeys keys = [] {
     ScenarioKeys k;
     k.top_level = {"$schema", "name", "description", "scene", "resolution", "frames", "seed", "profile",
-                   "overrides", "mode", "gi", "samples_per_frame", "camera", "events", "checks", "capture"};
+                   "overrides", "mode", "gi", "noise", "samples_per_frame", "camera", "events", "checks", "capture"};
     k.required_top_level = {"name", "scene", "resolution", "frames"};
     k.scene_keys = {"generator", "params", "gltf"};
     k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
@@ -79,7 +79,7 @@ const ScenarioKeys& scenario_keys() {
         {"blend_lag", {"name", "epsilon", "delta", "lag_limit", "steady_frames", "signals"}},
         {"jacobian", {"name", "max_jacobian"}},
     };
-    k.cornell_box_params = {"light_scale", "albedo_scale", "blocks"};
+    k.cornell_box_params = {"light_scale", "albedo_scale", "blocks", "scale"};
     k.cliff_params = {"triangles", "seed", "width", "height", "depth"};
     return k;
   }();
@@ -448,6 +448,7 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   if (doc.contains("mode"))
     s.mode = r.one_of(doc["mode"], "/mode", K.modes) == "reference" ? RenderMode::Reference : RenderMode::Realtime;
   if (doc.contains("gi")) s.gi = r.boolean(doc["gi"], "/gi");
+  if (doc.contains("noise")) s.noise = r.boolean(doc["noise"], "/noise");
   if (doc.contains("samples_per_frame"))
     s.samples_per_frame = r.uint(doc["samples_per_frame"], "/samples_per_frame", 1, kMaxSamplesPerFrame);
 

@@ -113,6 +113,11 @@ struct Scenario {
   // Realtime: add ReSTIR GI and specular GI to DI (the output and the reference
   // check become full GI). Off by default: DI alone.
   bool gi = false;
+  // Realtime: run two independent chains so summary.json reports each
+  // signal's per-frame noise (replay/run_scenario.cpp). A reference check
+  // runs two chains anyway; otherwise it doubles the DI/GI passes' cost and
+  // the second chain's cache queries touch the world cache, so it is opt-in.
+  bool noise = false;
   std::uint32_t samples_per_frame = 1;
   std::optional<CameraSpec> camera;
   std::vector<Event> events;    // in file order

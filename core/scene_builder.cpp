@@ -80,6 +80,7 @@ Scene build_generator(const Scenario& s) {
     CornellBoxOptions o;
     o.light_scale = param_number(s, params, "light_scale", 0.0, 1e9, o.light_scale);
     o.albedo_scale = param_number(s, params, "albedo_scale", 0.0, 1.37, o.albedo_scale);
+    o.scale = param_number(s, params, "scale", 1e-3, 1e3, o.scale);
     if (params.contains("blocks")) {
       if (!params["blocks"].is_boolean())
         throw InputError(file_of(s), "/scene/params/blocks", "expected true or false, got " + params["blocks"].dump());

@@ -79,6 +79,8 @@ void Commands::add_to(CLI::App& app) {
   sweep_->add_option("--out", sweep_options_.out_dir, "output directory")->capture_default_str();
   sweep_->add_option("--device", sweep_options_.device, "Vulkan device index");
   sweep_->add_option("--reference-spp", sweep_options_.reference_spp, "spp of the converged Embree reference");
+  sweep_->add_flag("--noise", sweep_options_.noise,
+                   "realtime points run two chains and report each signal's per-frame noise (ms/frame is then two chains')");
 
   replay_ = app.add_subcommand("replay", "resume a capture bit for bit and continue the run");
   replay_->add_option("capture", replay_options_.capture, "capture folder (out/captures/frame_NNNNN)")->required();

@@ -50,6 +50,9 @@ struct SweepOptions {
   std::filesystem::path out_dir = "out/sweep";
   std::optional<int> device;
   std::optional<std::uint32_t> reference_spp;  // converged reference (default: the reference check's, else 1024)
+  // Realtime points run two chains ("noise": true) and each row carries the
+  // per-signal noise; ms/frame is then that of two chains.
+  bool noise = false;
 };
 
 struct ReplayOptions {

@@ -43,6 +43,7 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.light_exposure = static_cast<float>(p.number("light_tiles.exposure"));
   s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
+  s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
   s.glossy_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
   s.glossy_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
   return s;
@@ -58,15 +59,28 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.jacobian_reject = static_cast<float>(p.number("restir_gi.jacobian_reject"));
   s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
   s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
+  const std::string fallback = p.text("restir_gi.temporal_fallback");
+  s.temporal_fallback = fallback == "point"   ? gpu::GiSettings::TemporalFallback::point
+                        : fallback == "retry" ? gpu::GiSettings::TemporalFallback::retry
+                                              : gpu::GiSettings::TemporalFallback::none;
+  s.target_brdf = p.text("restir_gi.target") == "base_over_pi";
+  s.temporal_history_pre_spatial = p.text("restir_gi.temporal_history") == "temporal";
+  s.empty_no_confidence = p.text("restir_gi.empty_samples") == "no_confidence";
+  s.emissive_all_channels = p.text("restir_gi.emissive_hit_test") == "all_channels";
+  s.visibility_final = p.text("restir_gi.visibility") == "final";
+  s.shading_diffuse = p.text("restir_gi.diffuse_shading") == "diffuse";
+  s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
   s.consistent_mis = p.text("restir_gi.mis_weights") == "consistent";
   const std::string hit = p.text("restir_gi.hit_radiance");
   s.hit_radiance = hit == "nee"           ? gpu::GiSettings::HitRadiance::nee
                    : hit == "world_cache" ? gpu::GiSettings::HitRadiance::world_cache
                                           : gpu::GiSettings::HitRadiance::path;
-  s.ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
+  s.ray_tmax = static_cast<float>(p.number("restir_gi.ray_tmax"));
   s.specular = p.flag("specular.enabled");
   s.specular_reuse_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
   s.specular_max_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
+  s.specular_power_mis = p.text("specular.mis") == "power";
+  s.specular_path_spread = p.text("specular.path_end") == "path_spread";
   s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
   s.chains = chains;

@@ -27,6 +27,7 @@
 #include "replay/checks/determinism_check.h"
 #include "replay/checks/jacobian_check.h"
 #include "replay/failure_capture.h"
+#include "replay/signal_noise.h"
 #include "replay/checks/realtime_reference_check.h"
 #include "replay/checks/reference_check.h"
 #include "replay/realtime_settings.h"
@@ -140,7 +141,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   if (realtime) {
     renderer_options.gbuffer = true;
     renderer_options.di =
-        di_settings_from_profile(profile, flatten_instances(scene, geometry), realtime_check ? 2u : 1u);
+        di_settings_from_profile(profile, flatten_instances(scene, geometry), realtime_check || scenario.noise ? 2u : 1u);
   }
   // ReSTIR GI + specular GI ("gi": true): the output becomes DI + GI + specular.
   const bool gi = realtime && scenario.gi;
@@ -153,7 +154,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                        "the jacobian check reads ReSTIR GI: a realtime scenario with \"gi\": true");
     jacobian_check.emplace(jacobian_check_params(*spec, scenario, profile.number("restir_gi.jacobian_reject")));
   }
-  if (gi) renderer_options.gi = gi_settings_from_profile(profile, realtime_check ? 2u : 1u);
+  if (gi) renderer_options.gi = gi_settings_from_profile(profile, realtime_check || scenario.noise ? 2u : 1u);
   // The world cache runs when a check reads it; the root-frame instrumentation
   // is compiled in only for cache_lifetime.
   std::optional<CacheLifetimeCheck> cache_lifetime_check;
@@ -242,6 +243,29 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     first_frame = capture.frame + 1;
   }
   std::vector<std::uint32_t> captured_frames;
+  // Each signal's per-frame noise at `frame`, from chains A and B
+  // (chain_noise), relative to the temporal mean of the whole output, so the
+  // signals' figures add up to about the output's (issue 25's measure).
+  nlohmann::json s_noise = nullptr;
+  TemporalNoise temporal_noise;
+  const std::uint32_t temporal_noise_start = std::max(first_frame, frames / 2);
+  auto realtime_noise = [&](std::uint32_t frame) {
+    Image mean = realtime_mean(0);
+    const Image mean_b = realtime_mean(1);
+    for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (mean.pixels[i] + mean_b.pixels[i]);
+    nlohmann::json signals = {{"output", json_figure(chain_noise(realtime_frame(0), realtime_frame(1), mean))},
+                              {"di", json_figure(chain_noise(renderer->di().frame(0), renderer->di().frame(1), mean))}};
+    if (gi) {
+      signals["gi"] = json_figure(chain_noise(renderer->gi().gi_frame(0), renderer->gi().gi_frame(1), mean));
+      signals["specular"] =
+          json_figure(chain_noise(renderer->gi().specular_frame(0), renderer->gi().specular_frame(1), mean));
+    }
+    return nlohmann::json{{"frame", frame},
+                          {"method", "per-frame relMSE of one chain against its expectation: mean over pixels and "
+                                     "channels of (A - B)^2 / 2 / (m^2 + 0.01), A and B the two chains' signal at "
+                                     "this frame, m the temporal mean of the output (both chains)"},
+                          {"signals", signals}};
+  };
 
   for (std::uint32_t frame = first_frame; frame < frames; ++frame) {
     const ChangeSet changes = apply_events(scene, initial, scenario, frame);
@@ -281,7 +305,36 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
     nlohmann::json timings = nlohmann::json::object();
     for (const auto& t : renderer->last_timings()) timings[t.name] = json_figure(t.ms);
-    last_mean = realtime ? realtime_frame(0) : renderer->reference_mean();
+    // Realtime: chain A's signals, read back once; each signal's mean
+    // luminance goes into the frame record.
+    nlohmann::json signal_luminance = nullptr;
+    if (realtime) {
+      const Image di_image = renderer->di().frame(0);
+      Image gi_image, specular_image;
+      last_mean = di_image;
+      signal_luminance = {{"di", json_figure(mean_luminance(di_image))}};
+      if (gi) {
+        gi_image = renderer->gi().gi_frame(0);
+        specular_image = renderer->gi().specular_frame(0);
+        signal_luminance["gi"] = json_figure(mean_luminance(gi_image));
+        signal_luminance["specular"] = json_figure(mean_luminance(specular_image));
+        last_mean = sum_images(sum_images(last_mean, gi_image), specular_image);
+      }
+      // The temporal noise window: the second half of the run, restarted by
+      // any change of the scene.
+      if (frame == temporal_noise_start || (changes.any() && frame > temporal_noise_start))
+        temporal_noise.restart(frame);
+      if (frame >= temporal_noise_start) {
+        std::map<std::string, const Image*> signals = {{"output", &last_mean}, {"di", &di_image}};
+        if (gi) {
+          signals["gi"] = &gi_image;
+          signals["specular"] = &specular_image;
+        }
+        temporal_noise.add(signals);
+      }
+    } else {
+      last_mean = renderer->reference_mean();
+    }
     const std::uint64_t nonfinite_samples = realtime ? 0 : renderer->reference_nonfinite_samples();
     const std::uint64_t nonfinite_pixels = count_nonfinite(last_mean);
     nonfinite_pixels_total += nonfinite_pixels;
@@ -298,6 +351,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                          {"nonfinite_pixels", nonfinite_pixels},
                          {"nonfinite_samples", nonfinite_samples},
                          {"pass_ms", timings}};
+    if (realtime) record["signal_mean_luminance"] = signal_luminance;
     if (gi_stats)
       record["gi"] = jacobian_check ? jacobian_check->record_frame(frame, *gi_stats)
                                     : nlohmann::json{{"merges", gi_stats->merges},
@@ -382,6 +436,16 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       spdlog::info("{}: frame {}/{}", scenario.name, frame + 1, frames);
   }
 
+  if (realtime) {
+    s_noise = {{"chain", renderer->di().settings().chains >= 2 ? realtime_noise(frames - 1) : nlohmann::json(nullptr)}};
+    s_noise["temporal"] = {{"first_frame", temporal_noise.first_frame()},
+                           {"frames", temporal_noise.frames()},
+                           {"method", "per-pixel variance of chain A's signal over the frames of the window (the "
+                                      "run's second half, restarted by scene changes) / (m^2 + 0.01), averaged; "
+                                      "includes the world cache's own fluctuation, which the chain figures cancel"},
+                           {"signals", temporal_noise.figures()}};
+  }
+
   if (hash_log) {
     hash_log->finish();
     for (std::uint32_t f : captured_frames) attach_run_hashes(options.out_dir / capture_folder(f), hash_log->file());
@@ -457,6 +521,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   frame_log.finish();
   s["frames_log"] = {{"file", "frames.jsonl"}, {"records", frame_log.count()}, {"kept_every", frame_log.stride()}};
   s["final_image_hash"] = image_hash(last_mean);
+  s["noise"] = s_noise;
   if (renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.
     const gpu::WorldCache& cache = renderer->world_cache();

@@ -64,6 +64,21 @@ EmbreeCost calibrate_embree(const Scene& scene, ReferenceOptions options) {
 
 std::string table_number(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "&ndash;"; }
 
+// "chain: di 0.0027, gi 0.109, …; temporal: …" from a GPU row's noise
+// (summary.json "noise").
+std::string noise_cell(const nlohmann::json& row) {
+  if (!row.contains("noise") || !row["noise"].is_object()) return "&ndash;";
+  std::string cell;
+  for (const char* kind : {"chain", "temporal"}) {
+    const nlohmann::json& k = row["noise"].value(kind, nlohmann::json(nullptr));
+    if (!k.is_object() || !k.contains("signals") || k["signals"].empty()) continue;
+    cell += std::string(cell.empty() ? "" : "; ") + kind + ":";
+    for (const auto& [signal, value] : k["signals"].items())
+      cell += " " + signal + " " + table_number(value.is_number() ? value.get<double>() : std::nan(""));
+  }
+  return cell.empty() ? "&ndash;" : cell;
+}
+
 void write_sweep_report(const std::filesystem::path& out_dir, const nlohmann::json& sweep) {
   PlotSeries gpu{"GPU pipeline", {}, {}, false}, embree{"Embree at equal time", {}, {}, false};
   std::vector<std::vector<std::string>> rows;
@@ -77,6 +92,7 @@ void write_sweep_report(const std::filesystem::path& out_dir, const nlohmann::js
                     table_number(ms), table_number(err),
                     r.contains("spp") ? r["spp"].dump() : "&ndash;",
                     r.contains("embree_over_gpu_relmse") ? table_number(r["embree_over_gpu_relmse"].is_number() ? r["embree_over_gpu_relmse"].get<double>() : std::nan("")) : "&ndash;",
+                    noise_cell(r),
                     "<a href=\"" + html_escape(r.value("summary", "")) + "\">" + html_escape(r.value("summary", "")) + "</a>"});
   }
   Plot plot{"error against time per frame", "ms/frame", "relMSE against the converged reference", true, true,
@@ -90,7 +106,9 @@ void write_sweep_report(const std::filesystem::path& out_dir, const nlohmann::js
     references.insert(r.dump());
   }
   for (const std::string& r : references) body += "<p class=\"small\">converged reference: " + html_escape(r) + "</p>\n";
-  body += html_table({"renderer", "point", "ms/frame", "relMSE", "Embree spp", "Embree relMSE / GPU relMSE", "summary"}, rows);
+  body += html_table({"renderer", "point", "ms/frame", "relMSE", "Embree spp", "Embree relMSE / GPU relMSE",
+                      "per-frame noise (sweep --noise)", "summary"},
+                     rows);
   body += html_plot(drawn[0], "error against time per frame");
   write_text_file(out_dir / "report.html", html_page("giharness sweep", body));
 }
@@ -109,6 +127,7 @@ int run_sweep(const SweepOptions& o) {
     if (c.value("name", "") != "reference") kept.push_back(c);
   doc["checks"] = kept;
   doc.erase("capture");
+  if (o.noise) doc["noise"] = true;
   const std::vector<SweepPoint> points = sweep_points(doc, axes);
   // Validate every point before running any.
   std::vector<Scenario> scenarios;
@@ -197,6 +216,7 @@ int run_sweep(const SweepOptions& o) {
                              {"embree_over_gpu_relmse", json_figure(embree_relmse / gpu_relmse)},
                              {"frames", s.frames},
                              {"checks_exit_code", run.exit_code},
+                             {"noise", run.summary.value("noise", nlohmann::json(nullptr))},
                              {"summary", folder + "/summary.json"},
                              {"timings", timings}});
     sweep["rows"].push_back({{"kind", "embree_equal_time"},
@@ -211,6 +231,8 @@ int run_sweep(const SweepOptions& o) {
     spdlog::info("[{}/{}] {}: {:.3f} ms/frame, relMSE {:.4g}; Embree {} spp in {:.3f} ms: relMSE {:.4g} ({:.3g}x the GPU's)",
                  i + 1, points.size(), p.label(), ms, gpu_relmse, eq.spp, embree.seconds * 1000.0, embree_relmse,
                  embree_relmse / gpu_relmse);
+    if (run.summary.contains("noise") && run.summary["noise"].is_object())
+      spdlog::info("    per-frame noise: {}", noise_cell({{"noise", run.summary["noise"]}}));
     sweep["reference"] = references;
     write_json_file(o.out_dir / "sweep.json", sweep);
   }

@@ -6,7 +6,6 @@ namespace gi {
 namespace {
 
 constexpr float mm = 0.001f;
-glm::vec3 P(float x, float y, float z) { return glm::vec3(x, y, z) * mm; }
 
 // The blocks' faces, each listed as in the data set (top first).
 void add_block(Mesh& mesh, const glm::vec3 (&q)[5][4]) {
@@ -19,6 +18,9 @@ void add_block(Mesh& mesh, const glm::vec3 (&q)[5][4]) {
 }  // namespace
 
 Scene make_cornell_box(const CornellBoxOptions& o) {
+  // The data set's millimetres, times the scale.
+  const float unit = mm * o.scale;
+  auto P = [unit](float x, float y, float z) { return glm::vec3(x, y, z) * unit; };
   Scene s;
   s.name = "cornell_box";
   const glm::vec3 inside = P(278.0f, 274.4f, 279.6f);

@@ -10,6 +10,7 @@ struct CornellBoxOptions {
   float light_scale = 1.0f;          // multiplies the light's radiance (17, 12, 4)
   float albedo_scale = 1.0f;         // multiplies every wall and block albedo
   bool blocks = true;                // the short and the tall block
+  float scale = 1.0f;                // multiplies every length (1: the data set's 0.56 m box)
 };
 
 // Instances: floor_ceiling_back (white), red_wall, green_wall, short_block,

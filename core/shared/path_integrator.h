@@ -16,6 +16,9 @@ GI_FN vec3 offset_ray_origin(vec3 p, vec3 n) {
 }
 
 GI_FN float balance_heuristic(float a, float b) { return a / (a + b); }
+// Veach's power heuristic with β = 2 (Solari's specular GI, v0.18.0
+// realtime/specular_gi.wgsl:147,170).
+GI_FN float power_heuristic(float a, float b) { return (a * a) / (a * a + b * b); }
 
 // Shadow test for a light sample (direction l, distance dist from p; dist =
 // RAY_TMAX for directional lights) from the offset origin `spawn`. The ray

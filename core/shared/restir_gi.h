@@ -39,8 +39,10 @@ GI_FN bool gi_reservoir_valid(GiReservoir r) { return r.radiance.w > 0.0f; }
 GI_FN float gi_confidence(GiReservoir r) { return r.sample_position.w; }
 
 // The resampling target at a surface (position p, shading normal n): the
-// luminance of the sample's radiance times the cosine at p. No BRDF, so the
-// same reservoir serves diffuse shading and rough specular (DESIGN §3 step 8).
+// luminance of the sample's radiance times the cosine at p. The caller
+// weighs the radiance with the surface's colour (Solari: base colour / π;
+// gi_common.glsl gi_target_colour), so the target carries no lobe shape and
+// the same reservoir serves diffuse shading and rough specular (DESIGN §3 step 8).
 GI_FN float gi_target(vec3 radiance, vec3 sample_position, vec3 p, vec3 n) {
   vec3 d = sample_position - p;
   float len2 = dot(d, d);

@@ -11,7 +11,7 @@ namespace gi::gpu {
 using namespace gi::shader;
 
 static_assert(sizeof(GiReservoir) == 48);
-static_assert(sizeof(GiSurface) == 32);
+static_assert(sizeof(GiSurface) == 48);
 static_assert(sizeof(GiStats) == 40 * 4);
 
 namespace {
@@ -31,17 +31,19 @@ GiPipeline::GiPipeline(Device& device, ShaderCompiler& compiler, const GiSetting
       stats_(device, sizeof(GiStats), kStorage, "GI statistics"),
       specular_output_(device, s.chains * pixels() * sizeof(glm::vec4), kStorage, "specular output"),
       specular_accumulation_(device, s.chains * pixels() * sizeof(glm::vec4), kStorage, "specular accumulation"),
+      history_(device, (s.temporal_history_pre_spatial ? s.chains * pixels() : 1) * sizeof(GiReservoir), kStorage,
+               "GI history reservoirs"),
       initial_temporal_(device, compiler, s),
       spatial_shade_(device, compiler, s) {
   if (s.specular) specular_.emplace(device, compiler, s);
   for (Buffer* b : {&stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
-                    &specular_accumulation_})
+                    &specular_accumulation_, &history_})
     b->fill_zero();
 }
 
 void GiPipeline::bind(const SceneResources& scene, const Buffer& gbuffer, const WorldCache* world_cache) {
   GiBuffers b{&gbuffer, &stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
-              &specular_accumulation_};
+              &specular_accumulation_, &history_};
   if (settings_.queries_world_cache()) {
     if (!world_cache) throw std::logic_error("GiPipeline::bind: hit_radiance world_cache without a world cache");
     b.world_cache = world_cache->buffer_table();
@@ -115,7 +117,9 @@ void GiPipeline::list_state(StateList& out) {
   const std::uint64_t c = settings_.chains, h = height_, w = width_;
   out.push_back({"gi/stored_reservoirs", &stored_, "<f4", {c, h, w, 12}, "GiReservoir (core/shared/restir_gi.h)"});
   out.push_back({"gi/mid_reservoirs", &mid_, "<f4", {c, h, w, 12}, "GiReservoir (core/shared/restir_gi.h)"});
-  out.push_back({"gi/surfaces", &surfaces_, "<f4", {h, w, 8}, "GiSurface (gpu/shaders/gi_bindings.h)"});
+  if (settings_.temporal_history_pre_spatial)
+    out.push_back({"gi/history_reservoirs", &history_, "<f4", {c, h, w, 12}, "GiReservoir (core/shared/restir_gi.h)"});
+  out.push_back({"gi/surfaces", &surfaces_, "<f4", {h, w, 12}, "GiSurface (gpu/shaders/gi_bindings.h)"});
   out.push_back({"gi/output", &output_, "<f4", {c, h, w, 4}, "rgb diffuse GI, w 1 on a hit"});
   out.push_back({"gi/accumulation", &accumulation_, "<f4", {c, h, w, 4}, "rgb sum, w frames"});
   out.push_back({"gi/stats", &stats_, "<u4", {40}, "GiStats (core/shared/restir_gi.h)"});

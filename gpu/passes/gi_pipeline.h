@@ -56,6 +56,7 @@ class GiPipeline {
   GiSettings settings_;
   std::uint32_t width_, height_;
   Buffer stored_, mid_, surfaces_, output_, accumulation_, stats_, specular_output_, specular_accumulation_;
+  Buffer history_;  // restir_gi.temporal_history "temporal" (else one unused slot)
   GiInitialTemporal initial_temporal_;
   GiSpatialShade spatial_shade_;
   std::optional<SpecularGi> specular_;

@@ -34,6 +34,7 @@ const Buffer& buffer_for(std::uint32_t binding, const GiBuffers& b) {
     case BINDING_GI_ACCUMULATION: p = b.accumulation; break;
     case BINDING_SPECULAR_OUTPUT: p = b.specular_output; break;
     case BINDING_SPECULAR_ACCUMULATION: p = b.specular_accumulation; break;
+    case BINDING_GI_RESERVOIRS_HISTORY: p = b.history; break;
     default: break;
   }
   if (!p) throw std::logic_error("GiPass: no buffer for binding " + std::to_string(binding));
@@ -71,11 +72,12 @@ void GiPass::record(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t heig
 
 GiInitialTemporal::GiInitialTemporal(Device& device, ShaderCompiler& compiler, const GiSettings& s)
     : GiPass(device, compiler, s, "gi_initial_temporal", kShader,
-             {BINDING_GI_RESERVOIRS_STORED, BINDING_GI_RESERVOIRS_MID, BINDING_GI_SURFACES}) {}
+             {BINDING_GI_RESERVOIRS_STORED, BINDING_GI_RESERVOIRS_MID, BINDING_GI_SURFACES,
+              BINDING_GI_RESERVOIRS_HISTORY}) {}
 
 GiSpatialShade::GiSpatialShade(Device& device, ShaderCompiler& compiler, const GiSettings& s)
     : GiPass(device, compiler, s, "gi_spatial_shade", kShader,
              {BINDING_GI_RESERVOIRS_STORED, BINDING_GI_RESERVOIRS_MID, BINDING_GI_SURFACES, BINDING_GI_OUTPUT,
-              BINDING_GI_ACCUMULATION}) {}
+              BINDING_GI_ACCUMULATION, BINDING_GI_RESERVOIRS_HISTORY}) {}
 
 }  // namespace gi::gpu

@@ -21,6 +21,35 @@ struct GiSettings {
   float jacobian_reject = 1.2f;
   bool jacobian_rejection = true;       // false: merge whatever J is (shows the jacobian check fires)
   bool temporal_permutation = true;
+  // What temporal reuse does when the permuted pixel is unusable
+  // (restir_gi.temporal_fallback): none (one try), point (Solari 0.18: the
+  // unpermuted reprojection when the permuted surface differs or its
+  // reservoir has no radiance), retry (Solari 0.17: up to 4 permutations).
+  enum class TemporalFallback { none = 0, point = 1, retry = 2 } temporal_fallback = TemporalFallback::point;
+  // restir_gi.temporal_history "temporal": next frame's temporal reuse reads
+  // this frame's temporal merge (before spatial reuse) from its own buffer;
+  // false ("spatial", Solari: v0.18.0 realtime/restir_gi.wgsl:74,159): it
+  // reads the stored spatial merge, so a neighbour's sample re-enters
+  // history with the confidence of both pixels.
+  bool temporal_history_pre_spatial = false;
+  // restir_gi.target "base_over_pi": the resampling target includes the
+  // shading point's base colour / π, as Solari's; false: luminance(L)·cos.
+  bool target_brdf = true;
+  // restir_gi.empty_samples "no_confidence": a miss or an emissive hit gives
+  // a reservoir of confidence 0 (Solari); false: it counts as M = 1.
+  bool empty_no_confidence = true;
+  // restir_gi.emissive_hit_test "all_channels": a hit is emissive (and the GI
+  // sample empty) only when every emission channel is non-zero, on either
+  // face (Solari's all(emissive != 0)); false: front face, any channel.
+  bool emissive_all_channels = true;
+  // restir_gi.visibility "final": merges ignore visibility, the stored
+  // reservoir is the merge, the final sample's ray only scales this frame's
+  // shading (Solari 0.18); false: the spatial neighbour is tested before the
+  // merge and the result stored (Solari 0.17).
+  bool visibility_final = true;
+  // restir_gi.diffuse_shading "diffuse": GI shaded with base·(1 − metallic)/π
+  // (Solari 0.18); false: base/π whatever the metallic (Solari 0.17).
+  bool shading_diffuse = true;
   // restir_gi.mis_weights "consistent": the canonical sample's MIS weight at
   // the other pixel includes its visibility from there (spatial: one more
   // ray) and is zero where the jacobian rejection would refuse that shift.
@@ -33,9 +62,18 @@ struct GiSettings {
   // followed along its BRDF, a rough hit adds its specular albedo; false:
   // Solari's diffuse-only secondary hits (hit_radiance.glsl).
   bool secondary_hits_full = false;
-  float ray_tmax = 50.0f;               // the initial GI ray (world_cache.gi_ray_tmax)
+  // brdf.secondary_albedo "base_color": a secondary hit reflects its full base
+  // colour diffusely (Solari, metals included); false: base·(1 − metallic).
+  bool secondary_albedo_base = true;
+  float ray_tmax = 1e5f;                // the initial GI ray (restir_gi.ray_tmax)
   bool specular = true;                 // specular.enabled
   float specular_reuse_roughness = 0.4f;
+  bool specular_power_mis = true;       // specular.mis "power" (Solari 0.18); false: balance
+  // specular.path_end "path_spread": a glossy path ends in the cache when its
+  // footprint outgrows the cell (Solari 0.18, hit_radiance.glsl
+  // GlossyPathEnd); false ("roughness"): at the first hit rougher than
+  // specular_reuse_roughness.
+  bool specular_path_spread = true;
   std::uint32_t specular_max_bounces = 3;
   float min_perceptual_roughness = 0.0316f;  // brdf.min_perceptual_roughness (0: no clamp)
   std::uint32_t chains = 1;             // independent chains, as DiSettings::chains
@@ -58,6 +96,7 @@ struct GiBuffers {
   const Buffer* stats = nullptr;
   const Buffer* specular_output = nullptr;
   const Buffer* specular_accumulation = nullptr;
+  const Buffer* history = nullptr;
   // The world cache's buffers by binding number (WorldCache::buffer_table),
   // when the passes query it.
   std::vector<std::pair<std::uint32_t, const Buffer*>> world_cache;

@@ -86,6 +86,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_LIGHT_EXPOSURE", f(light_exposure)},
                                  {"WORLD_CACHE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
+                                 {"WORLD_CACHE_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
                                  {"WORLD_CACHE_GLOSSY_ROUGHNESS", f(glossy_roughness)},
                                  {"WORLD_CACHE_GLOSSY_BOUNCES", u(glossy_bounces)},
                                  {"WORLD_CACHE_PENDING_CAPACITY", u(pending_capacity)}};

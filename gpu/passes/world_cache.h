@@ -47,6 +47,7 @@ struct WorldCacheSettings {
   // glossy_bounces vertices (specular.*) before querying the cache; false:
   // Solari's diffuse-only cache (hit_radiance.glsl).
   bool secondary_hits_full = false;
+  bool secondary_albedo_base = true;  // brdf.secondary_albedo (GiSettings)
   float glossy_roughness = 0.4f;
   std::uint32_t glossy_bounces = 3;
   bool stats = false;       // the per-frame statistics pass (blend_lag, cache_lifetime)

@@ -15,6 +15,8 @@ GI_CONST uint BINDING_GI_ACCUMULATION = 74u;       // vec4[chains · pixels]: rg
 GI_CONST uint BINDING_GI_STATS = 75u;              // GiStats: this frame's statistics (zeroed by the host)
 GI_CONST uint BINDING_SPECULAR_OUTPUT = 76u;       // vec4[chains · pixels]: this frame's specular GI
 GI_CONST uint BINDING_SPECULAR_ACCUMULATION = 77u; // vec4[chains · pixels]: rgb sum, w frames
+GI_CONST uint BINDING_GI_RESERVOIRS_HISTORY = 78u; // GiReservoir[chains · pixels]: this frame's temporal merge,
+                                                   // next frame's history (GI_TEMPORAL_HISTORY 1; else one slot)
 
 struct GiPushConstants {
   uint chain_count;
@@ -27,6 +29,7 @@ struct GiPushConstants {
 struct GiSurface {
   vec4 position_view_z;  // xyz world position, w view depth (0: no surface)
   vec4 normal;           // xyz shading normal facing the camera
+  vec4 base_color;       // rgb base colour, a metallic (the temporal target's base/π)
 };
 
 GI_SHADER_END

@@ -6,7 +6,11 @@
 // Defines (gpu/passes/restir_gi_settings.cpp): GI_CONFIDENCE_CAP,
 // GI_SPATIAL_RADIUS, GI_SPATIAL_TRIES, GI_CONSISTENT_MIS (restir_gi.mis_weights), GI_PLANE_TOLERANCE, GI_NORMAL_MIN_DOT,
 // GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
-// GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_HIT_RADIANCE (0: one
+// GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_TEMPORAL_FALLBACK (0
+// none, 1 point reprojection, 2 up to 4 permutations), GI_TARGET_BRDF,
+// GI_EMPTY_NO_CONFIDENCE, GI_EMISSIVE_ALL_CHANNELS, GI_VISIBILITY_FINAL,
+// GI_SHADING_DIFFUSE, GI_SECONDARY_ALBEDO_BASE (GiSettings says what each
+// selects), GI_HIT_RADIANCE (0: one
 // NEE light sample, 1: one cosine-sampled path, 2: the world cache, with the
 // cache's WORLD_CACHE_* defines), GI_SECONDARY_HITS_FULL (brdf.secondary_hits), GI_RAY_TMAX,
 // SPECULAR_REUSE_ROUGHNESS, SPECULAR_MAX_BOUNCES, SPECULAR_MIN_PERCEPTUAL_ROUGHNESS.
@@ -26,6 +30,8 @@ layout(push_constant) uniform Push { GiPushConstants push; };
 layout(std430, set = 0, binding = BINDING_GBUFFER) readonly buffer GBuffer { GBufferTexel gbuffer[]; };
 layout(std430, set = 0, binding = BINDING_GI_STATS) buffer Stats { GiStats gi_stats; };
 
+vec3 gi_target_colour(vec3 base_color);
+
 struct GiPixel {
   bool hit;
   vec3 position;
@@ -38,6 +44,7 @@ struct GiPixel {
   float perceptual_roughness;
   float reflectance;
   vec3 diffuse;  // base colour · (1 − metallic)
+  vec3 target;   // the resampling target's colour at this surface (gi_target_colour)
   vec4 motion;   // xy pixels to the previous frame, z 1 if valid
 };
 
@@ -57,6 +64,7 @@ GiPixel gi_pixel(uvec2 pixel) {
   d.perceptual_roughness = g.emissive_roughness.a;
   d.reflectance = g.motion_reflectance.w;
   d.diffuse = d.base_color * (1.0 - d.metallic);
+  d.target = gi_target_colour(d.base_color);
   d.motion = vec4(g.motion_reflectance.xyz, 0.0);
   return d;
 }
@@ -74,11 +82,25 @@ uint gi_cache_query_id(uint pass_block, uint chain, uint index) {
   return (1u + pass_block * push.chain_count + chain) * pixels + index;
 }
 
+// The colour the resampling target weighs a sample's radiance with at a
+// surface: Solari's base colour / π, metallic ignored (GI_TARGET_BRDF 1:
+// v0.18.0 realtime/restir_gi.wgsl:46,68,262-271, v0.17.0 :262-276), or 1
+// (0: luminance(L)·cos, the harness's earlier target).
+vec3 gi_target_colour(vec3 base_color) {
+#if GI_TARGET_BRDF != 0
+  return base_color * INV_PI;
+#else
+  return vec3(1.0);
+#endif
+}
+
 // Secondary hits (hit_radiance.glsl) with this pass's settings.
 #define HIT_RADIANCE GI_HIT_RADIANCE
 #define HIT_SURFACES_FULL GI_SECONDARY_HITS_FULL
 #define HIT_GLOSSY_ROUGHNESS SPECULAR_REUSE_ROUGHNESS
 #define HIT_GLOSSY_BOUNCES SPECULAR_MAX_BOUNCES
+#define HIT_ALBEDO_BASE GI_SECONDARY_ALBEDO_BASE
+#define HIT_POWER_MIS SPECULAR_POWER_MIS
 #include "gpu/shaders/hit_radiance.glsl"
 
 // A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,
@@ -106,13 +128,15 @@ bool gi_point_visible(vec3 p, vec3 ng, vec3 target) {
   return dist > 0.0 && dot(to_target, ng) > 0.0 && trace_unoccluded(spawn, to_target / dist, dist * (1.0 - 1e-3));
 }
 
-// Pairwise merge of the canonical reservoir c (surface pc, nc) with o, found
-// at another surface (po, no); jacobian rejection and statistics here.
+// Pairwise merge of the canonical reservoir c (surface pc, nc, target colour
+// tc) with o, found at another surface (po, no, to); jacobian rejection and
+// statistics here.
 // c_visible_at_o: whether c's sample point is visible from o. The balance
 // heuristic needs p_o(x_c) with o's visibility, else c's sample keeps only
 // its share where o could not have produced it and GI comes out dark — the
 // mechanism of the DI bias (README), here for GI's spatial reuse.
-GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, GiReservoir o, vec3 po, vec3 no, bool c_visible_at_o, float u) {
+GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, vec3 tc, GiReservoir o, vec3 po, vec3 no, vec3 to,
+                     bool c_visible_at_o, float u) {
   bool o_valid = gi_reservoir_valid(o);
   GiMergeInputs t;
   t.j_co = 0.0;
@@ -141,14 +165,14 @@ GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, GiReservoir o, vec3 po, ve
   }
   bool c_valid = gi_reservoir_valid(c);
   t.j_oc = c_valid ? gi_jacobian(po, pc, c.sample_position.xyz, c.sample_normal.xyz) : 0.0;
-  t.pc_xc = c_valid ? gi_target(c.radiance.rgb, c.sample_position.xyz, pc, nc) : 0.0;
-  t.po_xc = c_valid && c_visible_at_o ? gi_target(c.radiance.rgb, c.sample_position.xyz, po, no) : 0.0;
+  t.pc_xc = c_valid ? gi_target(c.radiance.rgb * tc, c.sample_position.xyz, pc, nc) : 0.0;
+  t.po_xc = c_valid && c_visible_at_o ? gi_target(c.radiance.rgb * to, c.sample_position.xyz, po, no) : 0.0;
 #if GI_CONSISTENT_MIS != 0 && GI_JACOBIAN_REJECTION != 0
   // o could have produced c's sample only through a shift of jacobian
   // 1/J_oc, refused above the threshold: then it has no share of it.
   if (!(t.j_oc * float(GI_JACOBIAN_REJECT) >= 1.0)) t.po_xc = 0.0;
 #endif
-  t.po_xo = o_valid ? gi_target(o.radiance.rgb, o.sample_position.xyz, po, no) : 0.0;
-  t.pc_xo = o_valid ? gi_target(o.radiance.rgb, o.sample_position.xyz, pc, nc) : 0.0;
+  t.po_xo = o_valid ? gi_target(o.radiance.rgb * to, o.sample_position.xyz, po, no) : 0.0;
+  t.pc_xo = o_valid ? gi_target(o.radiance.rgb * tc, o.sample_position.xyz, pc, nc) : 0.0;
   return merge_gi_reservoirs(c, o, t, u).merged;
 }

@@ -1,11 +1,14 @@
-// ReSTIR GI, dispatch 1 of 2 (DESIGN §3 step 7): the initial sample — one
+// ReSTIR GI, dispatch 1 of 2 (DESIGN §3 step 7): the initial sample, one
 // uniform-hemisphere ray; a miss or an emissive hit gives an empty reservoir
-// (M = 1, W = 0), else radiance = secondary_hit_radiance(hit) (hit_radiance.glsl;
-// GI_HIT_RADIANCE 2: the world cache, Solari's query), W = 2π, M = 1 — then
-// temporal reuse of last frame's stored reservoir through the motion vector,
-// the reprojected pixel permuted within 4×4 blocks (GI_TEMPORAL_PERMUTATION),
-// rejected when the surfaces differ, confidence capped at GI_CONFIDENCE_CAP,
-// merged with jacobians (gi_common.glsl gi_merge). z indexes the chain.
+// (confidence 0 under GI_EMPTY_NO_CONFIDENCE, as Solari: v0.18.0
+// realtime/restir_gi.wgsl:97-105; else M = 1), else radiance =
+// secondary_hit_radiance(hit) (hit_radiance.glsl; GI_HIT_RADIANCE 2: the world
+// cache, Solari's query), W = 2π, M = 1. Then temporal reuse of last frame's
+// stored reservoir through the motion vector, the reprojected pixel permuted
+// within 4×4 blocks (GI_TEMPORAL_PERMUTATION) with GI_TEMPORAL_FALLBACK when
+// the permuted pixel is unusable, rejected when the surfaces differ,
+// confidence capped at GI_CONFIDENCE_CAP, merged with jacobians (gi_merge).
+// z indexes the chain.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
@@ -16,6 +19,37 @@ layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
 layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_STORED) readonly buffer Stored { GiReservoir stored_reservoirs[]; };
 layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_MID) writeonly buffer Mid { GiReservoir mid_reservoirs[]; };
 layout(std430, set = 0, binding = BINDING_GI_SURFACES) readonly buffer Surfaces { GiSurface surfaces[]; };
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_HISTORY) readonly buffer History { GiReservoir history_reservoirs[]; };
+
+#if GI_EMPTY_NO_CONFIDENCE != 0
+const float GI_EMPTY_CONFIDENCE = 0.0;
+#else
+const float GI_EMPTY_CONFIDENCE = 1.0;
+#endif
+
+// Whether a hit counts as an emitter, which GI leaves to DI (empty sample).
+bool gi_hit_emissive(SurfacePoint s, bool front) {
+#if GI_EMISSIVE_ALL_CHANNELS != 0
+  // Solari's all(emissive != 0) (v0.18.0 realtime/restir_gi.wgsl:103): an
+  // emitter with a zero channel is treated as a reflector, on either face.
+  return all(notEqual(s.emissive, vec3(0.0)));
+#else
+  return front && max3(s.emissive) > 0.0;
+#endif
+}
+
+// Last frame's reservoir at pixel q if its surface is similar to d's.
+bool gi_temporal_candidate(GiPixel d, ivec2 q, uint chain, out GiReservoir r, out GiSurface s) {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uint q_index = uint(q.y) * resolution.x + uint(q.x);
+  s = surfaces[q_index];
+#if GI_TEMPORAL_HISTORY != 0
+  r = history_reservoirs[chain * resolution.x * resolution.y + q_index];
+#else
+  r = stored_reservoirs[chain * resolution.x * resolution.y + q_index];
+#endif
+  return s.position_view_z.w > 0.0 && !gi_dissimilar(d, s.position_view_z.xyz, s.normal.xyz);
+}
 
 void main() {
   uvec2 resolution = frame.resolution_frame.xy;
@@ -33,17 +67,17 @@ void main() {
   uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_GI_INITIAL + chain, index, frame.resolution_frame.z);
 
   // Initial sample.
-  GiReservoir canonical = empty_gi_reservoir(1.0);
+  GiReservoir canonical = empty_gi_reservoir(GI_EMPTY_CONFIDENCE);
   vec3 dir = to_world(sample_uniform_hemisphere(rng_next_vec2(rng)), d.ns);
   if (dot(dir, d.ng) > 0.0) {
     Hit hit;
     if (trace_closest(offset_ray_origin(d.position, d.ng), dir, float(GI_RAY_TMAX), hit)) {
       SurfacePoint s = surface_at_hit(hit);
       bool front = dot(dir, s.geometric_normal) < 0.0;
-      if (!(front && max3(s.emissive) > 0.0)) {
+      if (!gi_hit_emissive(s, front)) {
         vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
         vec3 ns = dot(s.shading_normal, ng) < 0.0 ? -s.shading_normal : s.shading_normal;
-        canonical.sample_position.xyz = s.position;
+        canonical.sample_position = vec4(s.position, 1.0);
         canonical.sample_normal.xyz = ng;
         canonical.radiance =
             vec4(secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(0u, chain, index)), rng),
@@ -56,18 +90,30 @@ void main() {
   if (push.history_valid != 0u && d.motion.z > 0.0) {
     ivec2 q = ivec2(floor(vec2(pixel) + vec2(0.5) + d.motion.xy));
     if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
+      GiReservoir temporal;
+      GiSurface s;
 #if GI_TEMPORAL_PERMUTATION != 0
-      q = gi_permute_pixel(q, push.permutation, ivec2(resolution));
+      // Solari 0.17 tries up to 4 permutations and takes the first similar
+      // surface (v0.17.0 realtime/restir_gi.wgsl:135-151); 0.18 tries one and
+      // falls back to the unpermuted pixel when its surface differs or its
+      // reservoir has no radiance (v0.18.0 :136-142).
+      const uint tries = GI_TEMPORAL_FALLBACK == 2 ? 4u : 1u;
+      bool found = false;
+      for (uint i = 0u; i < tries && !found; ++i)
+        found = gi_temporal_candidate(d, gi_permute_pixel(q, push.permutation + i, ivec2(resolution)), chain, temporal, s);
+#if GI_TEMPORAL_FALLBACK == 1
+      if (!found || all(equal(temporal.radiance.rgb, vec3(0.0))))
+        found = gi_temporal_candidate(d, q, chain, temporal, s);
 #endif
-      uint q_index = uint(q.y) * resolution.x + uint(q.x);
-      GiSurface s = surfaces[q_index];
-      if (s.position_view_z.w > 0.0 && !gi_dissimilar(d, s.position_view_z.xyz, s.normal.xyz)) {
-        GiReservoir temporal = stored_reservoirs[chain * pixels + q_index];
+#else
+      bool found = gi_temporal_candidate(d, q, chain, temporal, s);
+#endif
+      if (found) {
         temporal.sample_position.w = min(temporal.sample_position.w, float(GI_CONFIDENCE_CAP));
         // Last frame's surface is this pixel's (or a permuted neighbour's, at most
         // 3 px away, similar by pixel_dissimilar): visibility is assumed, as in Solari.
-        canonical = gi_merge(canonical, d.position, d.ns, temporal, s.position_view_z.xyz, s.normal.xyz, true,
-                             rng_next_float(rng));
+        canonical = gi_merge(canonical, d.position, d.ns, d.target, temporal, s.position_view_z.xyz, s.normal.xyz,
+                             gi_target_colour(s.base_color.rgb), true, rng_next_float(rng));
       }
     }
   }

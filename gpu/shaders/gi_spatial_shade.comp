@@ -1,9 +1,13 @@
 // ReSTIR GI, dispatch 2 of 2 (DESIGN §3 step 7): spatial reuse of one
 // neighbour (a random pixel in a GI_SPATIAL_RADIUS disk, up to GI_SPATIAL_TRIES
-// tries for a similar surface), its sample tested for visibility from this
-// pixel, merged with jacobians; the result is stored for next frame and for
-// specular GI; then diffuse shading (metallic pixels have no diffuse lobe):
-//   GI = diffuse/π · radiance · W · cos.
+// tries for a similar surface), merged with jacobians. Visibility:
+// - GI_VISIBILITY_FINAL (Solari 0.18, v0.18.0 realtime/restir_gi.wgsl:66-82):
+//   the merge ignores visibility and is stored for next frame and for
+//   specular GI; one ray to the final sample scales this frame's shading only.
+// - else (Solari 0.17, v0.17.0 :170-171): the neighbour's sample is tested
+//   from this pixel before the merge, and the result is stored.
+// Then diffuse shading, GI = brdf · radiance · W · cos with brdf
+// base·(1 − metallic)/π (GI_SHADING_DIFFUSE, 0.18) or base/π (0.17).
 // Also writes this pixel's surface for next frame's temporal reuse, and
 // counts non-finite reservoirs and output pixels (GiStats).
 #version 460
@@ -18,6 +22,7 @@ layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_MID) readonly buffer Mid
 layout(std430, set = 0, binding = BINDING_GI_SURFACES) writeonly buffer Surfaces { GiSurface surfaces[]; };
 layout(std430, set = 0, binding = BINDING_GI_OUTPUT) writeonly buffer Output { vec4 gi_output[]; };
 layout(std430, set = 0, binding = BINDING_GI_ACCUMULATION) buffer Accumulation { vec4 gi_accumulation[]; };
+layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_HISTORY) writeonly buffer History { GiReservoir history_reservoirs[]; };
 
 void main() {
   uvec2 resolution = frame.resolution_frame.xy;
@@ -32,9 +37,15 @@ void main() {
 
   if (!d.hit) {
     stored_reservoirs[slot] = empty_gi_reservoir(0.0);
+#if GI_TEMPORAL_HISTORY != 0
+    history_reservoirs[slot] = empty_gi_reservoir(0.0);
+#endif
   } else {
     uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_GI_SPATIAL + chain, index, frame.resolution_frame.z);
     GiReservoir canonical = mid_reservoirs[slot];
+#if GI_TEMPORAL_HISTORY != 0
+    history_reservoirs[slot] = canonical;  // next frame's history: the temporal merge alone
+#endif
 
     int neighbour = -1;
     GiPixel n;
@@ -52,25 +63,38 @@ void main() {
     }
     if (neighbour >= 0) {
       GiReservoir other = mid_reservoirs[chain * pixels + uint(neighbour)];
+#if GI_VISIBILITY_FINAL == 0
       // The neighbour's point must be visible from here (its confidence still
       // counts), and this pixel's from the neighbour for the MIS weights
       // (GI_CONSISTENT_MIS; 0: Solari's visibility-free weights, dark).
       if (gi_reservoir_valid(other) && !gi_point_visible(d.position, d.ng, other.sample_position.xyz))
         other.radiance.w = 0.0;
+#endif
       bool canonical_visible_at_other = true;
-#if GI_CONSISTENT_MIS != 0
+#if GI_CONSISTENT_MIS != 0 && GI_VISIBILITY_FINAL == 0
+      // (Under GI_VISIBILITY_FINAL neither target carries visibility, so the
+      // weights already sum to one; the final ray handles occlusion.)
       if (gi_reservoir_valid(canonical))
         canonical_visible_at_other = gi_point_visible(n.position, n.ng, canonical.sample_position.xyz);
 #endif
-      canonical = gi_merge(canonical, d.position, d.ns, other, n.position, n.ns, canonical_visible_at_other,
-                           rng_next_float(rng));
+      canonical = gi_merge(canonical, d.position, d.ns, d.target, other, n.position, n.ns, n.target,
+                           canonical_visible_at_other, rng_next_float(rng));
     }
     if (!gi_reservoir_finite(canonical)) atomicAdd(gi_stats.nonfinite_reservoirs, 1u);
     stored_reservoirs[slot] = canonical;
 
-    if (gi_reservoir_valid(canonical)) {
+    bool shade = gi_reservoir_valid(canonical);
+#if GI_VISIBILITY_FINAL != 0
+    if (shade) shade = gi_point_visible(d.position, d.ng, canonical.sample_position.xyz);
+#endif
+    if (shade) {
       vec3 wi = normalize(canonical.sample_position.xyz - d.position);
-      color = d.diffuse * INV_PI * canonical.radiance.rgb * canonical.radiance.w * max(dot(d.ns, wi), 0.0);
+#if GI_SHADING_DIFFUSE != 0
+      vec3 brdf = d.diffuse * INV_PI;
+#else
+      vec3 brdf = d.base_color * INV_PI;
+#endif
+      color = brdf * canonical.radiance.rgb * canonical.radiance.w * max(dot(d.ns, wi), 0.0);
     }
   }
 
@@ -78,6 +102,7 @@ void main() {
     GiSurface s;
     s.position_view_z = vec4(d.position, d.hit ? max(d.view_z, 1e-20) : 0.0);
     s.normal = vec4(d.ns, 0.0);
+    s.base_color = vec4(d.base_color, d.metallic);
     surfaces[index] = s;
   }
   if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);

@@ -15,8 +15,22 @@
 //   HIT_GLOSSY_ROUGHNESS  alpha at or below which a hit is followed along its
 //                         BRDF (specular.reuse_gi_roughness)
 //   HIT_GLOSSY_BOUNCES    vertices a glossy path visits (specular.max_bounces)
+//   HIT_POWER_MIS         specular.mis: 1 "power" (Solari 0.18's glossy path),
+//                         0 "balance" heuristic between NEE and the bounce
+//   HIT_ALBEDO_BASE       brdf.secondary_albedo: 1 "base_color" (Solari: the
+//                         full base colour, metals too: v0.18.0
+//                         realtime/restir_gi.wgsl:120, world_cache_update.wgsl:43,
+//                         specular_gi.wgsl:116), 0 "diffuse" base·(1 − metallic)
 
 #include "core/shared/specular.h"
+
+float hit_mis(float a, float b) {
+#if HIT_POWER_MIS != 0
+  return power_heuristic(a, b);
+#else
+  return balance_heuristic(a, b);
+#endif
+}
 
 // Where a path ending in the world cache queries it: the life and root frame
 // the query passes on, its id in the pending list, and which list
@@ -39,7 +53,12 @@ struct CacheQuery {
 // towards where it came from.
 vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuery q, inout uint rng) {
   GpuMaterial m = scene_material(s.material);
+#if HIT_ALBEDO_BASE != 0 && HIT_SURFACES_FULL == 0
+  // ("full" models the lobes itself: the diffuse colour plus the specular albedo.)
+  vec3 albedo = vec3(m.base_color_metallic);
+#else
   vec3 albedo = vec3(m.base_color_metallic) * (1.0 - m.base_color_metallic.w);
+#endif
 #if HIT_SURFACES_FULL != 0
   BrdfParams brdf = material_brdf(s.material);
   if (max3(brdf.f0) > 0.0 && dot(ns, v) > 0.0) {
@@ -72,6 +91,20 @@ vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuery q, i
 #endif
 }
 
+// Where a glossy path ends in end_path_radiance (the cache).
+// - spread_a0 < 0: at the first hit rougher than HIT_GLOSSY_ROUGHNESS (the
+//   harness's earlier rule, and brdf.secondary_hits full's).
+// - spread_a0 ≥ 0 (specular.path_end "path_spread", Solari 0.18: v0.18.0
+//   realtime/specular_gi.wgsl:58-61,111-118, after Müller et al. 2021 §3.4):
+//   when the path's footprint, spread += sqrt(t² / (pdf · cos θ_o)) at each
+//   hit, satisfies spread² > a0 · the cache's cell size there, a0 =
+//   0.03 · |camera − primary|² / (4π cos θ) (specular_gi.comp). A mirror
+//   bounce (pdf a delta) adds no spread. Needs the cache (GI_HIT_RADIANCE 2).
+struct GlossyPathEnd {
+  float spread_a0;
+  float first_pdf;  // solid-angle pdf of the primary direction (≥ 1e30: a mirror)
+};
+
 // The path from a hit onwards (trace_glossy_path of seeds/solari-0.18.md, from
 // its first hit): a rough hit ends it in end_path_radiance; a glossy one gets
 // NEE (not on mirrors) and a BRDF-sampled bounce, emission found by the
@@ -79,16 +112,18 @@ vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuery q, i
 // HIT_GLOSSY_BOUNCES vertices. At the last vertex Solari stops after NEE
 // (light beyond it is lost); HIT_SURFACES_FULL ends the path there in
 // end_path_radiance instead.
-vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, inout uint rng) {
+vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd path_end, inout uint rng) {
   vec3 radiance = vec3(0.0);
   vec3 throughput = vec3(1.0);
   float previous_pdf = 0.0;  // of the direction just traced; 0: no NEE at its origin (mirror or first vertex)
+  float spread = 0.0;
+  float spread_pdf = path_end.first_pdf;
   for (uint vertex = 0u;; ++vertex) {
     SurfacePoint s = surface_at_hit(hit);
     bool front = dot(dir, s.geometric_normal) < 0.0;
     if (vertex > 0u && front && max3(s.emissive) > 0.0) {
       float w = previous_pdf > 0.0
-                    ? balance_heuristic(previous_pdf, emissive_hit_light_pdf(s, hit.instance, dir, hit.t))
+                    ? hit_mis(previous_pdf, emissive_hit_light_pdf(s, hit.instance, dir, hit.t))
                     : 1.0;
       radiance += throughput * s.emissive * w;
     }
@@ -99,7 +134,16 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, inout uint rng) {
     bool last = vertex + 1u >= uint(HIT_GLOSSY_BOUNCES);
     // HIT_SURFACES_FULL ends the path at its last vertex in the cache, which
     // holds that vertex's direct light too: no NEE there.
-    if (brdf.alpha > float(HIT_GLOSSY_ROUGHNESS) || (HIT_SURFACES_FULL != 0 && last)) {
+    bool end_here = brdf.alpha > float(HIT_GLOSSY_ROUGHNESS) || (HIT_SURFACES_FULL != 0 && last);
+#if HIT_RADIANCE == 2
+    if (path_end.spread_a0 >= 0.0) {
+      spread += sqrt(hit.t * hit.t / (spread_pdf * max(dot(hns, v), 1e-6)));
+      end_here = spread * spread > path_end.spread_a0 * world_cache_cell_size(s.position, frame.camera.position.xyz,
+                                                                          float(WORLD_CACHE_CELL_SIZE_BASE),
+                                                                          float(WORLD_CACHE_LOD_SCALE));
+    }
+#endif
+    if (end_here) {
       radiance += throughput * end_path_radiance(s, hng, hns, v, q, rng);
       break;
     }
@@ -112,7 +156,7 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, inout uint rng) {
       float light_pdf;
       if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, hng) > 0.0) {
         vec3 f = brdf_eval(brdf, hns, v, l) * max(dot(hns, l), 0.0);
-        float w = balance_heuristic(light_pdf, brdf_pdf(brdf, hns, v, l));
+        float w = hit_mis(light_pdf, brdf_pdf(brdf, hns, v, l));
         if (max3(f) > 0.0 && light_sample_visible(s.position, spawn, l, dist))
           radiance += throughput * f * le * (w / light_pdf);
       }
@@ -124,6 +168,7 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, inout uint rng) {
     if (!brdf_sample(brdf, hns, v, u, l, pdf) || dot(l, hng) <= 0.0) break;
     throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0) / pdf);
     previous_pdf = mirror ? 0.0 : pdf;
+    spread_pdf = mirror ? 1e30 : pdf;
     dir = l;
     if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
       radiance += throughput * escaped_radiance(dir, previous_pdf);
@@ -139,7 +184,7 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, inout uint rng) {
 // glossy metal is not lost.
 vec3 secondary_hit_radiance(Hit hit, SurfacePoint s, vec3 ng, vec3 ns, vec3 dir, CacheQuery q, inout uint rng) {
 #if HIT_SURFACES_FULL != 0
-  return glossy_path_radiance(hit, dir, q, rng);
+  return glossy_path_radiance(hit, dir, q, GlossyPathEnd(-1.0, 0.0), rng);
 #else
   return end_path_radiance(s, ng, ns, -dir, q, rng);
 #endif

@@ -23,10 +23,10 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumula
 
 // Radiance arriving at `position` along `dir`, without what DI owns (the
 // first hit's emission, escaped light): glossy_path_radiance from the first hit.
-vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, inout uint rng) {
+vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, GlossyPathEnd path_end, inout uint rng) {
   Hit hit;
   if (!trace_closest(offset_ray_origin(position, ng), dir, RAY_TMAX, hit)) return vec3(0.0);
-  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id), rng);
+  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id), path_end, rng);
 }
 
 void main() {
@@ -50,8 +50,17 @@ void main() {
       }
     } else if (max3(f0) > 0.0) {
       vec3 wi = to_world(sample_ggx_bounded_vndf(from_world(d.view, d.ns), alpha, rng_next_vec2(rng)), d.ns);
+      GlossyPathEnd path_end = GlossyPathEnd(-1.0, 0.0);
+#if SPECULAR_PATH_SPREAD != 0 && GI_HIT_RADIANCE == 2
+      vec3 to_camera = frame.camera.position.xyz - d.position;
+      path_end.spread_a0 = 0.03 * dot(to_camera, to_camera) / (4.0 * PI * max(dot(d.view, d.ns), 1e-6));
+      path_end.first_pdf = alpha <= SPECULAR_MIRROR_ALPHA
+                               ? 1e30
+                               : ggx_bounded_vndf_pdf(from_world(d.view, d.ns), from_world(wi, d.ns), alpha);
+#endif
       if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
-        color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) * trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), rng);
+        color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) *
+                trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), path_end, rng);
     }
   }
   if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);

@@ -19,6 +19,8 @@
 #define HIT_SURFACES_FULL WORLD_CACHE_SECONDARY_HITS_FULL
 #define HIT_GLOSSY_ROUGHNESS WORLD_CACHE_GLOSSY_ROUGHNESS
 #define HIT_GLOSSY_BOUNCES WORLD_CACHE_GLOSSY_BOUNCES
+#define HIT_ALBEDO_BASE WORLD_CACHE_SECONDARY_ALBEDO_BASE
+#define HIT_POWER_MIS 0  // the cache's GI ray follows glossy hits only under brdf.secondary_hits full (harness)
 #include "gpu/shaders/hit_radiance.glsl"
 
 layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
