@@ -49,7 +49,7 @@ const ScenarioKeys& scenario_keys() {
     k.scene_keys = {"generator", "params", "gltf"};
     k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
     k.modes = {"reference", "realtime"};
-    k.profiles = {"solari-0.17", "solari-0.18"};
+    k.profiles = {"solari-0.17", "solari-0.18", "solari-0.19"};
     k.event_types = {"light_on", "light_off", "light_intensity", "light_color", "camera_keyframes",
                      "camera_sweep", "spawn", "despawn", "transform", "material"};
     k.event_keys = {

@@ -66,7 +66,10 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.target_brdf = p.text("restir_gi.target") == "base_over_pi";
   s.temporal_history_pre_spatial = p.text("restir_gi.temporal_history") == "temporal";
   s.empty_no_confidence = p.text("restir_gi.empty_samples") == "no_confidence";
-  s.emissive_all_channels = p.text("restir_gi.emissive_hit_test") == "all_channels";
+  const std::string emissive = p.text("restir_gi.emissive_hit_test");
+  s.emissive_test = emissive == "all_channels"  ? gpu::GiSettings::EmissiveTest::all_channels
+                    : emissive == "any_channel" ? gpu::GiSettings::EmissiveTest::any_channel
+                                                : gpu::GiSettings::EmissiveTest::front_any_channel;
   s.visibility_final = p.text("restir_gi.visibility") == "final";
   s.shading_diffuse = p.text("restir_gi.diffuse_shading") == "diffuse";
   s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";

@@ -24,7 +24,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_TARGET_BRDF", target_brdf ? "1" : "0"},
           {"GI_TEMPORAL_HISTORY", temporal_history_pre_spatial ? "1" : "0"},
           {"GI_EMPTY_NO_CONFIDENCE", empty_no_confidence ? "1" : "0"},
-          {"GI_EMISSIVE_ALL_CHANNELS", emissive_all_channels ? "1" : "0"},
+          {"GI_EMISSIVE_TEST", std::to_string(static_cast<int>(emissive_test))},
           {"GI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"GI_SHADING_DIFFUSE", shading_diffuse ? "1" : "0"},
           {"GI_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},

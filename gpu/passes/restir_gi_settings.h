@@ -38,10 +38,11 @@ struct GiSettings {
   // restir_gi.empty_samples "no_confidence": a miss or an emissive hit gives
   // a reservoir of confidence 0 (Solari); false: it counts as M = 1.
   bool empty_no_confidence = true;
-  // restir_gi.emissive_hit_test "all_channels": a hit is emissive (and the GI
-  // sample empty) only when every emission channel is non-zero, on either
-  // face (Solari's all(emissive != 0)); false: front face, any channel.
-  bool emissive_all_channels = true;
+  // restir_gi.emissive_hit_test: which hits count as emitters (the GI sample
+  // is then empty): "front_any_channel" (harness), "all_channels" (Solari
+  // 0.17/0.18: all(emissive != 0), either face), "any_channel" (0.19).
+  enum class EmissiveTest { front_any_channel = 0, all_channels = 1, any_channel = 2 } emissive_test =
+      EmissiveTest::all_channels;
   // restir_gi.visibility "final": merges ignore visibility, the stored
   // reservoir is the merge, the final sample's ray only scales this frame's
   // shading (Solari 0.18); false: the spatial neighbour is tested before the

@@ -8,7 +8,7 @@
 // GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
 // GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_TEMPORAL_FALLBACK (0
 // none, 1 point reprojection, 2 up to 4 permutations), GI_TARGET_BRDF,
-// GI_EMPTY_NO_CONFIDENCE, GI_EMISSIVE_ALL_CHANNELS, GI_VISIBILITY_FINAL,
+// GI_EMPTY_NO_CONFIDENCE, GI_EMISSIVE_TEST, GI_VISIBILITY_FINAL,
 // GI_SHADING_DIFFUSE, GI_SECONDARY_ALBEDO_BASE (GiSettings says what each
 // selects), GI_HIT_RADIANCE (0: one
 // NEE light sample, 1: one cosine-sampled path, 2: the world cache, with the

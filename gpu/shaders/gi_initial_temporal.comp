@@ -29,10 +29,12 @@ const float GI_EMPTY_CONFIDENCE = 1.0;
 
 // Whether a hit counts as an emitter, which GI leaves to DI (empty sample).
 bool gi_hit_emissive(SurfacePoint s, bool front) {
-#if GI_EMISSIVE_ALL_CHANNELS != 0
-  // Solari's all(emissive != 0) (v0.18.0 realtime/restir_gi.wgsl:103): an
-  // emitter with a zero channel is treated as a reflector, on either face.
+#if GI_EMISSIVE_TEST == 1
+  // Solari 0.17/0.18's all(emissive != 0) (v0.18.0 realtime/restir_gi.wgsl:103):
+  // an emitter with a zero channel is treated as a reflector, on either face.
   return all(notEqual(s.emissive, vec3(0.0)));
+#elif GI_EMISSIVE_TEST == 2
+  return any(notEqual(s.emissive, vec3(0.0)));  // 0.19 (v0.19.0 :102)
 #else
   return front && max3(s.emissive) > 0.0;
 #endif
