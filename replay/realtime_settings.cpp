@@ -58,6 +58,7 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
   s.jacobian_reject = static_cast<float>(p.number("restir_gi.jacobian_reject"));
   s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
+  s.jacobian_both = p.text("restir_gi.jacobian_rejection_directions") == "both";
   s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
   const std::string fallback = p.text("restir_gi.temporal_fallback");
   s.temporal_fallback = fallback == "point"   ? gpu::GiSettings::TemporalFallback::point

@@ -19,6 +19,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_NORMAL_MIN_DOT", f(normal_min_dot)},
           {"GI_JACOBIAN_REJECT", f(jacobian_reject)},
           {"GI_JACOBIAN_REJECTION", jacobian_rejection ? "1" : "0"},
+          {"GI_JACOBIAN_BOTH", jacobian_both ? "1" : "0"},
           {"GI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
           {"GI_TEMPORAL_FALLBACK", std::to_string(static_cast<int>(temporal_fallback))},
           {"GI_TARGET_BRDF", target_brdf ? "1" : "0"},

@@ -20,6 +20,10 @@ struct GiSettings {
   float normal_min_dot = 0.906f;
   float jacobian_reject = 1.2f;
   bool jacobian_rejection = true;       // false: merge whatever J is (shows the jacobian check fires)
+  // restir_gi.jacobian_rejection_directions "both" (Solari 0.19): also reject
+  // when the canonical sample's jacobian towards the other pixel exceeds the
+  // threshold; "one" (0.17, 0.18): the other sample's only.
+  bool jacobian_both = false;
   bool temporal_permutation = true;
   // What temporal reuse does when the permuted pixel is unusable
   // (restir_gi.temporal_fallback): none (one try), point (Solari 0.18: the

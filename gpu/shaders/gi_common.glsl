@@ -6,6 +6,7 @@
 // Defines (gpu/passes/restir_gi_settings.cpp): GI_CONFIDENCE_CAP,
 // GI_SPATIAL_RADIUS, GI_SPATIAL_TRIES, GI_CONSISTENT_MIS (restir_gi.mis_weights), GI_PLANE_TOLERANCE, GI_NORMAL_MIN_DOT,
 // GI_JACOBIAN_REJECT (threshold), GI_JACOBIAN_REJECTION (1: reject above it),
+// GI_JACOBIAN_BOTH (1: in both directions, Solari 0.19),
 // GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_TEMPORAL_FALLBACK (0
 // none, 1 point reprojection, 2 up to 4 permutations), GI_TARGET_BRDF,
 // GI_EMPTY_NO_CONFIDENCE, GI_EMISSIVE_TEST, GI_VISIBILITY_FINAL,
@@ -21,6 +22,10 @@
 #include "gpu/shaders/gi_bindings.h"
 
 layout(push_constant) uniform Push { GiPushConstants push; };
+
+#ifndef GI_JACOBIAN_BOTH
+#define GI_JACOBIAN_BOTH 0
+#endif
 
 #if GI_HIT_RADIANCE == 2
 #include "gpu/shaders/world_cache_common.glsl"
@@ -138,15 +143,21 @@ bool gi_point_visible(vec3 p, vec3 ng, vec3 target) {
 GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, vec3 tc, GiReservoir o, vec3 po, vec3 no, vec3 to,
                      bool c_visible_at_o, float u) {
   bool o_valid = gi_reservoir_valid(o);
+  bool c_valid = gi_reservoir_valid(c);
   GiMergeInputs t;
   t.j_co = 0.0;
+  t.j_oc = c_valid ? gi_jacobian(po, pc, c.sample_position.xyz, c.sample_normal.xyz) : 0.0;
   if (o_valid) {
     atomicAdd(gi_stats.merges, 1u);
     float raw = gi_jacobian_raw(pc, po, o.sample_position.xyz, o.sample_normal.xyz);
     if (!gi_finite(raw)) atomicAdd(gi_stats.nonfinite_jacobians, 1u);
     t.j_co = gi_finite(raw) ? raw : 0.0;
 #if GI_JACOBIAN_REJECTION != 0
-    if (t.j_co > float(GI_JACOBIAN_REJECT)) {
+    // GI_JACOBIAN_BOTH (Solari 0.19, v0.19.0 realtime/restir_gi.wgsl:276,
+    // Bevy #23968): also refuse the pair when moving the canonical sample to
+    // the other pixel has a jacobian above the threshold, which bounds the
+    // factor a sample's weight can pick up per hop in both directions.
+    if (t.j_co > float(GI_JACOBIAN_REJECT) || (GI_JACOBIAN_BOTH != 0 && t.j_oc > float(GI_JACOBIAN_REJECT))) {
       atomicAdd(gi_stats.rejections, 1u);
 #if GI_CONSISTENT_MIS != 0
       // Its sample is refused, its confidence still counts: the canonical
@@ -163,8 +174,6 @@ GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, vec3 tc, GiReservoir o, ve
       atomicAdd(gi_stats.histogram[gi_jacobian_bin(t.j_co)], 1u);
     }
   }
-  bool c_valid = gi_reservoir_valid(c);
-  t.j_oc = c_valid ? gi_jacobian(po, pc, c.sample_position.xyz, c.sample_normal.xyz) : 0.0;
   t.pc_xc = c_valid ? gi_target(c.radiance.rgb * tc, c.sample_position.xyz, pc, nc) : 0.0;
   t.po_xc = c_valid && c_visible_at_o ? gi_target(c.radiance.rgb * to, c.sample_position.xyz, po, no) : 0.0;
 #if GI_CONSISTENT_MIS != 0 && GI_JACOBIAN_REJECTION != 0
