@@ -4,8 +4,8 @@
 //
 // Geometry events (spawn) call update_geometry, which builds the new meshes'
 // acceleration structures and re-uploads the vertex and index buffers; every
-// pass's state (reservoirs, world cache, last frame's surfaces,
-// accumulation, host-side history) carries on, as in Bevy's Solari.
+// pass's state (reservoirs, world cache, last frame's surfaces, accumulation
+// sums, host-side history) carries on, as in Bevy's Solari.
 //
 // Per frame: update_scene (uploads; TLAS rebuilt only when needed), then
 // render_frame (records, submits and waits for the enabled passes, each
