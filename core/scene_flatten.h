@@ -29,6 +29,7 @@ struct MeshRange {
   std::uint32_t first_vertex = 0;
   std::uint32_t triangle_count = 0;
   std::uint32_t vertex_count = 0;
+  bool operator==(const MeshRange&) const = default;
 };
 
 struct FlatGeometry {

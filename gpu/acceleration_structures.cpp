@@ -61,17 +61,32 @@ void AccelerationStructures::destroy(AccelerationStructure& as) noexcept {
 AccelerationStructures::AccelerationStructures(Device& device, const FlatGeometry& geometry, const Buffer& vertices,
                                                const Buffer& indices)
     : device_(device), meshes_(geometry.meshes) {
-  const std::size_t n = geometry.meshes.size();
+  build_blases(geometry, vertices, indices);
+}
+
+void AccelerationStructures::add_meshes(const FlatGeometry& geometry, const Buffer& vertices, const Buffer& indices) {
+  for (std::size_t m = 0; m < meshes_.size(); ++m)
+    if (m >= geometry.meshes.size() || meshes_[m] != geometry.meshes[m])
+      throw DeviceError(fmt::format("AccelerationStructures::add_meshes: mesh {} changed; meshes may only be appended", m));
+  meshes_ = geometry.meshes;
+  build_blases(geometry, vertices, indices);
+  built_once_ = false;  // the next update() rebuilds the TLAS
+}
+
+// Builds the BLAS of every mesh that has none yet (blas_ shorter than meshes_).
+void AccelerationStructures::build_blases(const FlatGeometry& geometry, const Buffer& vertices, const Buffer& indices) {
+  const std::size_t first = blas_.size(), n = geometry.meshes.size();
   blas_.resize(n);
   std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
   std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
   std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
   std::vector<VkDeviceSize> scratch_offsets;
   VkDeviceSize scratch_total = 0;
+  Device& device = device_;
   const VkDeviceSize scratch_align = device.min_scratch_offset_alignment();
 
   try {
-    for (std::size_t m = 0; m < n; ++m) {
+    for (std::size_t m = first; m < n; ++m) {
       const MeshRange& r = geometry.meshes[m];
       if (r.triangle_count == 0) continue;  // no BLAS; instances of it are left out of the TLAS
       VkAccelerationStructureGeometryKHR& g = geoms[m];
@@ -127,7 +142,8 @@ AccelerationStructures::AccelerationStructures(Device& device, const FlatGeometr
       });
     }
   } catch (...) {
-    for (auto& b : blas_) destroy(b);
+    for (std::size_t m = first; m < n; ++m) destroy(blas_[m]);
+    blas_.resize(first);
     throw;
   }
   spdlog::debug("built {} BLAS", infos.size());

@@ -1,6 +1,7 @@
 // The `rayquery` backend's acceleration structures (DESIGN §4): one BLAS per
 // mesh, built once from the global vertex/index buffers (triangles arrive
-// Morton-sorted from core, which lavapipe's BLAS builder needs), and one TLAS
+// Morton-sorted from core, which lavapipe's BLAS builder needs; a mesh added
+// later by a spawn gets its own, the others are kept), and one TLAS
 // over the visible instances, rebuilt only when a transform or the visibility
 // changed.
 #pragma once
@@ -33,6 +34,12 @@ class AccelerationStructures {
   AccelerationStructures(const AccelerationStructures&) = delete;
   AccelerationStructures& operator=(const AccelerationStructures&) = delete;
 
+  // Builds the BLASes of the meshes appended to `geometry` since construction
+  // (or the last call); vertices/indices are its (possibly reallocated) global
+  // buffers. Earlier meshes must be unchanged (scenario events only append);
+  // their BLASes are kept. The next update() rebuilds the TLAS.
+  void add_meshes(const FlatGeometry& geometry, const Buffer& vertices, const Buffer& indices);
+
   // Usage flags the global vertex and index buffers need.
   static VkBufferUsageFlags geometry_buffer_usage();
 
@@ -50,6 +57,7 @@ class AccelerationStructures {
  private:
   void destroy(AccelerationStructure& as) noexcept;
   AccelerationStructure create(VkAccelerationStructureTypeKHR type, VkDeviceSize size, const char* name);
+  void build_blases(const FlatGeometry& geometry, const Buffer& vertices, const Buffer& indices);
   void build_tlas(const std::vector<VkAccelerationStructureInstanceKHR>& records);
 
   Device& device_;

@@ -22,13 +22,21 @@ void BvhBuffers::upload_all() {
     nodes_ = Buffer(device_, node_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "bvh nodes");
     buffers_changed_ = true;
   }
-  if (!triangles_) {
+  if (!triangles_ || triangles_.size() < tri_bytes) {
     triangles_ = Buffer(device_, tri_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "bvh triangles");
-    if (tri_bytes) triangles_.upload(bvh_.triangles());
     buffers_changed_ = true;
+  }
+  if (bvh_.triangles().size() != uploaded_triangles_) {  // BLAS triangles only change when meshes are added
+    if (tri_bytes) triangles_.upload(bvh_.triangles());
+    uploaded_triangles_ = bvh_.triangles().size();
   }
   nodes_.upload(bvh_.nodes());
   uploaded_generation_ = bvh_.layout_generation();
+}
+
+void BvhBuffers::add_meshes(const FlatGeometry& geometry) {
+  bvh_.add_meshes(geometry);
+  upload_all();
 }
 
 bool BvhBuffers::update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible) {

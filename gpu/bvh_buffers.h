@@ -1,7 +1,8 @@
 // The `bvh` tracing backend on the GPU (DESIGN §4): the CPU-built two-level
 // BVH (core/bvh/scene_bvh.h) in two storage buffers that
-// gpu/shaders/trace_bvh.glsl traverses. The BLASes are uploaded once; a TLAS
-// rebuild rewrites only the TLAS region of the node buffer.
+// gpu/shaders/trace_bvh.glsl traverses. The BLASes are uploaded once (and
+// again when meshes are added); a TLAS rebuild rewrites only the TLAS region
+// of the node buffer.
 #pragma once
 #include <cstdint>
 #include <utility>
@@ -23,6 +24,11 @@ class BvhBuffers {
  public:
   BvhBuffers(Device& device, const FlatGeometry& geometry);
 
+  // Meshes appended to the geometry (a spawn of a generated mesh): their
+  // BLASes are built and the buffers re-uploaded (grown when needed); the
+  // next update() rebuilds the TLAS. Earlier meshes must be unchanged.
+  void add_meshes(const FlatGeometry& geometry);
+
   // As AccelerationStructures::update: rebuilds the TLAS only if the visible
   // set or a visible transform changed. Returns true if it rebuilt.
   bool update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible);
@@ -41,6 +47,7 @@ class BvhBuffers {
   bvh::SceneBvh bvh_;
   Buffer nodes_, triangles_;
   std::uint32_t uploaded_generation_ = 0;
+  std::size_t uploaded_triangles_ = 0;
   bool buffers_changed_ = true;
 };
 

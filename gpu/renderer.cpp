@@ -1,5 +1,6 @@
 #include "gpu/renderer.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -45,6 +46,8 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
   compiler.set_global_defines(trace_backend_defines(device.backend()));
   if (device.backend() == TraceBackend::bvh) bvh_.emplace(device, geometry);
   else as_.emplace(device, geometry, vertices_, indices_);
+  mesh_ranges_ = geometry.meshes;
+  triangle_count_ = geometry.indices.size() / 3;
   const std::size_t pixels = pixel_count();
   if (options_.gbuffer) {
     visibility_ = Buffer(device, pixels * sizeof(glm::uvec2), kStorage, "visibility");
@@ -52,8 +55,6 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     gbuffer_ = Buffer(device, pixels * sizeof(GBufferTexel), kStorage, "gbuffer");
     primary_visibility_.emplace(device, compiler);
     // Default ID space: each mesh's LOD-0 meshlets (set_cluster_ids replaces it).
-    mesh_ranges_ = geometry.meshes;
-    triangle_count_ = geometry.indices.size() / 3;
     for (std::uint32_t m = 0; m < geometry.meshes.size(); ++m)
       mesh_clusters_.push_back(lod0_cluster_ids(geometry, m, 1u << cluster_layout_.triangle_bits));
     gbuffer_resolve_.emplace(device, compiler);
@@ -94,6 +95,26 @@ void Renderer::ensure_buffer(Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFl
   if (buffer && buffer.size() >= bytes) return;
   buffer = Buffer(device_, std::max<VkDeviceSize>(bytes, 16), usage, name);
   bindings_dirty_ = true;
+}
+
+void Renderer::update_geometry(const FlatGeometry& geometry) {
+  const std::size_t old_meshes = mesh_ranges_.size();
+  if (geometry.meshes.size() < old_meshes ||
+      !std::equal(mesh_ranges_.begin(), mesh_ranges_.end(), geometry.meshes.begin()))
+    throw DeviceError("Renderer::update_geometry: a mesh changed or went away; meshes may only be appended");
+  if (geometry.meshes.size() == old_meshes) return;  // a spawn of an existing mesh: instances only
+  vertices_ = make_geometry_buffer(device_, geometry.vertices.data(), geometry.vertices.size() * sizeof(GpuVertex),
+                                   "vertices");
+  indices_ = make_geometry_buffer(device_, geometry.indices.data(), geometry.indices.size() * sizeof(std::uint32_t),
+                                  "indices");
+  bindings_dirty_ = true;
+  if (as_) as_->add_meshes(geometry, vertices_, indices_);
+  if (bvh_) bvh_->add_meshes(geometry);
+  mesh_ranges_ = geometry.meshes;
+  triangle_count_ = geometry.indices.size() / 3;
+  if (options_.gbuffer)
+    for (std::uint32_t m = std::uint32_t(old_meshes); m < geometry.meshes.size(); ++m)
+      mesh_clusters_.push_back(lod0_cluster_ids(geometry, m, 1u << cluster_layout_.triangle_bits));
 }
 
 void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>& visible) {

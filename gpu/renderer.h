@@ -2,6 +2,11 @@
 // acceleration structures, the enabled passes and their outputs. Only the
 // passes the options enable are compiled (a scenario compiles only what it uses).
 //
+// Geometry events (spawn) call update_geometry, which builds the new meshes'
+// acceleration structures and re-uploads the vertex and index buffers; every
+// pass's state (reservoirs, world cache, last frame's surfaces, accumulation
+// sums, host-side history) carries on, as in Bevy's Solari.
+//
 // Per frame: update_scene (uploads; TLAS rebuilt only when needed), then
 // render_frame (records, submits and waits for the enabled passes, each
 // bracketed by GPU timestamps), then read back what the checks need.
@@ -50,6 +55,13 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
+  // The scene's meshes after a spawn: meshes appended since construction (or
+  // the last call) get their BLASes and join the vertex and index buffers
+  // (reallocated, re-uploaded); the earlier meshes must be unchanged (events
+  // only append; DeviceError otherwise). Nothing else is touched: call
+  // update_scene next for the instance list. New meshes own their LOD-0
+  // meshlets' cluster IDs until set_cluster_ids names every mesh's.
+  void update_geometry(const FlatGeometry& geometry);
   // Uploads instances, materials and lights; rebuilds the TLAS only when a
   // visible instance's transform or the visible set changed. visible[i] is
   // instance i's visibility (a missing entry = visible).

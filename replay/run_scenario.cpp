@@ -220,6 +220,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       throw InputError(manifest, "/frame", fmt::format("a frame before the run's last ({} frames)", frames));
     scene = scene_at_frame(initial, scenario, capture.frame);
     geometry = flatten_geometry(scene);
+    renderer.reset();  // one pipeline's buffers at a time
     renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
     if (cluster_ids_check)
       renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry), cluster_ids_check->params().layout);
@@ -269,9 +270,14 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
   for (std::uint32_t frame = first_frame; frame < frames; ++frame) {
     const ChangeSet changes = apply_events(scene, initial, scenario, frame);
-    if (changes.geometry) {
+    // Spawns update the acceleration structures and scene buffers in place:
+    // reservoirs, the world cache and every other pass's history carry on
+    // (Bevy's Solari keeps them across scene changes). Only a spawned
+    // generated mesh changes the flat geometry; meshes are only appended.
+    if (changes.geometry) check_resource_limits(scenario, scene, device.largest_heap_bytes());
+    if (changes.geometry && scene.meshes.size() != geometry.meshes.size()) {
       geometry = flatten_geometry(scene);
-      renderer = std::make_unique<gpu::Renderer>(device, compiler, geometry, renderer_options);
+      renderer->update_geometry(geometry);
       if (cluster_ids_check)
         renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry),
                                   cluster_ids_check->params().layout);

@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/bvh/bvh_builder.h"
+#include "core/errors.h"
 #include "core/bvh/bvh_cpu_tracer.h"
 #include "core/bvh/embree_ray_caster.h"
 #include "core/bvh/ray_sets.h"
@@ -178,6 +179,65 @@ TEST(SceneBvh, RebuildsTheTlasOnlyWhenTransformsOrVisibilityChange) {
   EXPECT_FALSE(bvh.update(flat.instances, visible));
   EXPECT_EQ(bvh.tlas_builds(), 3u);
   EXPECT_EQ(bvh.tlas_instance_count(), flat.instances.size() - 1);
+}
+
+// A spawned mesh (add_meshes) gives the same bytes as a structure built with
+// it from the start, so a replay that rebuilds the scene at a later frame
+// traces exactly what the run traced; the earlier meshes are kept, and the
+// next update rebuilds the TLAS.
+TEST(SceneBvh, AddedMeshesMatchAFreshBuild) {
+  gi::Scene scene = gi::make_cornell_box();
+  const gi::FlatGeometry before = gi::flatten_geometry(scene);
+  gi::CliffOptions rock;
+  rock.triangles = 300;
+  rock.width = 0.2f;
+  rock.height = 0.1f;
+  rock.depth = 0.1f;
+  scene.meshes.push_back(gi::make_cliff_mesh(rock));
+  scene.materials.push_back(gi::make_cliff_material());
+  gi::Instance inst;
+  inst.name = "rock";
+  inst.mesh = std::uint32_t(scene.meshes.size() - 1);
+  inst.material = std::uint32_t(scene.materials.size() - 1);
+  inst.transform = glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 0.0f, 0.25f));
+  scene.instances.push_back(inst);
+  const gi::FlatGeometry after = gi::flatten_geometry(scene);
+  const gi::FlatInstances flat = gi::flatten_instances(scene, after);
+  std::vector<bool> visible = visibility_of(scene);
+  std::vector<bool> old_visible = visible;
+  old_visible.back() = false;  // before the spawn
+
+  gi::bvh::SceneBvh grown(before);
+  EXPECT_TRUE(grown.update(flat.instances, old_visible));
+  const std::size_t old_triangles = grown.triangles().size();
+  grown.add_meshes(after);
+  EXPECT_TRUE(grown.update(flat.instances, visible)) << "the TLAS is rebuilt over the new instance";
+  gi::bvh::SceneBvh fresh(after);
+  fresh.update(flat.instances, visible);
+  ASSERT_GT(grown.triangles().size(), old_triangles);
+  ASSERT_EQ(grown.triangles().size(), fresh.triangles().size());
+  EXPECT_EQ(std::memcmp(grown.triangles().data(), fresh.triangles().data(),
+                        fresh.triangles().size() * sizeof(fresh.triangles()[0])), 0);
+  // The node layouts differ (the grown one doubled its TLAS capacity); what
+  // a ray meets does not, bit for bit.
+  gi::bvh::RaySetOptions options;
+  options.count = 20000;
+  options.camera = gi::make_gpu_camera(scene.camera, 64, 64);
+  std::size_t rock_hits = 0;
+  for (const gi::bvh::TraceRay& ray : gi::bvh::make_ray_set(after, flat, visible, options)) {
+    gi::shader::Hit a{}, b{};
+    const bool hit_a = gi::shader::BvhCpuTracer(grown).bvh_trace(ray.origin, ray.direction, ray.tmax, false, a);
+    const bool hit_b = gi::shader::BvhCpuTracer(fresh).bvh_trace(ray.origin, ray.direction, ray.tmax, false, b);
+    ASSERT_EQ(hit_a, hit_b);
+    if (!hit_a) continue;
+    ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0);
+    rock_hits += a.instance == flat.instances.size() - 1;
+  }
+  EXPECT_GT(rock_hits, 0u) << "the spawned rock is hit";
+  // A mesh that changed (not appended) is refused.
+  gi::FlatGeometry changed = after;
+  changed.meshes[0].triangle_count -= 1;
+  EXPECT_THROW(grown.add_meshes(changed), gi::DeviceError);
 }
 
 // A hidden instance is not hit; shown again, it is.

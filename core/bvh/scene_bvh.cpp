@@ -32,9 +32,20 @@ Aabb world_box(const Aabb& object_box, const glm::mat4& object_to_world) {
 
 }  // namespace
 
-SceneBvh::SceneBvh(const FlatGeometry& geometry, const BuildOptions& blas_options) : meshes_(geometry.meshes) {
-  std::uint32_t node_offset = 0;
-  for (const MeshRange& mesh : geometry.meshes) {
+SceneBvh::SceneBvh(const FlatGeometry& geometry, const BuildOptions& blas_options) : blas_options_(blas_options) {
+  add_meshes(geometry);
+}
+
+void SceneBvh::add_meshes(const FlatGeometry& geometry) {
+  const std::size_t first = meshes_.size();
+  for (std::size_t m = 0; m < first; ++m)
+    if (m >= geometry.meshes.size() || meshes_[m] != geometry.meshes[m])
+      throw DeviceError(fmt::format("SceneBvh::add_meshes: mesh {} changed; meshes may only be appended", m));
+  if (first == geometry.meshes.size() && capacity_ > 0) return;
+  std::uint32_t node_offset = blas_.empty() ? 0u : blas_node_offset_.back() + std::uint32_t(blas_.back().nodes.size());
+  for (std::size_t m = first; m < geometry.meshes.size(); ++m) {
+    const MeshRange& mesh = geometry.meshes[m];
+    meshes_.push_back(mesh);
     blas_triangle_base_.push_back(std::uint32_t(triangles_.size()));
     blas_node_offset_.push_back(node_offset);
     std::vector<Aabb> boxes(mesh.triangle_count);
@@ -50,13 +61,14 @@ SceneBvh::SceneBvh(const FlatGeometry& geometry, const BuildOptions& blas_option
       boxes[t].grow(tri.p1);
       boxes[t].grow(tri.p2);
     }
-    BuiltBvh tree = build_bvh(boxes, blas_options);
+    BuiltBvh tree = build_bvh(boxes, blas_options_);
     for (std::uint32_t k : tree.order) triangles_.push_back(tris[k]);
     max_blas_depth_ = std::max(max_blas_depth_, tree.depth);
     node_offset += std::uint32_t(tree.nodes.size());
     blas_.push_back(std::move(tree));
   }
-  relayout(1);
+  // The new BLASes go after the others; the next update() rebuilds the TLAS.
+  relayout(std::max<std::uint32_t>(capacity_, 1));
 }
 
 void SceneBvh::relayout(std::uint32_t capacity) {

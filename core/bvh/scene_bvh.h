@@ -27,6 +27,12 @@ class SceneBvh {
  public:
   explicit SceneBvh(const FlatGeometry& geometry, const BuildOptions& blas_options = {});
 
+  // Builds the BLASes of meshes appended to `geometry` since the last call
+  // (the earlier meshes must be unchanged: scenario events only append) and
+  // moves the node array (layout_generation()); the next update() rebuilds
+  // the TLAS. Existing BLASes keep their bits.
+  void add_meshes(const FlatGeometry& geometry);
+
   // visible[i]: instance i is drawn (a missing entry = visible). Instances
   // with no triangles are left out. Returns true if the TLAS was rebuilt.
   bool update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible);
@@ -44,6 +50,7 @@ class SceneBvh {
  private:
   void relayout(std::uint32_t capacity);
 
+  BuildOptions blas_options_;
   std::vector<MeshRange> meshes_;
   std::vector<BuiltBvh> blas_;                 // per mesh, local refs
   std::vector<std::uint32_t> blas_triangle_base_;  // per mesh: first entry in triangles_
