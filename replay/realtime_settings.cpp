@@ -19,6 +19,10 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.plane_tolerance = static_cast<float>(p.number("restir_di.dissimilar_plane_tolerance"));
   s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
   s.balance_mis = p.text("restir_di.mis") == "balance";
+  s.mis_visibility = p.flag("restir_di.mis_visibility");
+  s.target_base_color = p.text("restir_di.target") == "base_over_pi";
+  s.temporal_permutation = p.flag("restir_di.temporal_permutation");
+  s.tile_per_workgroup = p.text("restir_di.tile_choice") == "workgroup";
   s.visibility_final = p.text("restir_di.visibility") == "final";
   s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
   s.chains = chains;

@@ -100,15 +100,36 @@ struct MergeResult {
   float selected_target;  // p_c(x_sel)
 };
 
+// Resampling of a pairwise merge once the MIS weights are known: w_c =
+// mis_c·p_c(x_c)·c.W, w_o = mis_o·p_c(x_o)·o.W, pick o with probability
+// w_o/(w_c + w_o) (u in [0, 1)), M = c.M + o.M, W = (w_c + w_o)/p_c(x_sel).
+GI_FN MergeResult merge_di_reservoirs_weighted(DiReservoir c, DiReservoir o, MergeTargets t, float mis_c, float mis_o,
+                                               float u) {
+  float w_c = di_reservoir_valid(c) ? mis_c * t.pc_xc * c.unbiased_contribution_weight : 0.0f;
+  float w_o = di_reservoir_valid(o) ? mis_o * t.pc_xo * o.unbiased_contribution_weight : 0.0f;
+  float sum = w_c + w_o;
+
+  MergeResult r;
+  r.selected_other = sum > 0.0f && u * sum < w_o;
+  r.merged = r.selected_other ? o : c;
+  r.selected_target = r.selected_other ? t.pc_xo : t.pc_xc;
+  // An empty reservoir still counts its confidence: it stands for sampling
+  // attempts that found nothing.
+  r.merged.confidence_weight = c.confidence_weight + o.confidence_weight;
+  r.merged.unbiased_contribution_weight = r.selected_target > 0.0f ? sum / r.selected_target : 0.0f;
+  if (!(sum > 0.0f)) {
+    // Nothing to carry but the confidence: an empty sample with W = 0.
+    r.merged.unbiased_contribution_weight = 0.0f;
+  }
+  return r;
+}
+
 // Pairwise merge (DESIGN §3 step 6). balance = true: the balance heuristic
 // with confidence weights (Solari 0.18)
 //   mis_c = balance(c.M·p_c(x_c), o.M·p_o(x_c)),  mis_o = balance(o.M·p_o(x_o), c.M·p_c(x_o));
 // false: constant weights mis_c = c.M/(c.M+o.M), mis_o = o.M/(c.M+o.M) (0.17).
-// Then w_c = mis_c·p_c(x_c)·c.W, w_o = mis_o·p_c(x_o)·o.W, pick o with
-// probability w_o/(w_c + w_o) (u in [0, 1)), M = c.M + o.M, W = (w_c + w_o)/p_c(x_sel).
+// Then merge_di_reservoirs_weighted.
 GI_FN MergeResult merge_di_reservoirs(DiReservoir c, DiReservoir o, MergeTargets t, bool balance, float u) {
-  // An empty reservoir still counts its confidence: it stands for sampling
-  // attempts that found nothing.
   float cm = c.confidence_weight;
   float om = o.confidence_weight;
   float mis_c;
@@ -121,21 +142,26 @@ GI_FN MergeResult merge_di_reservoirs(DiReservoir c, DiReservoir o, MergeTargets
     mis_c = total > 0.0f ? cm / total : 0.0f;
     mis_o = total > 0.0f ? om / total : 0.0f;
   }
-  float w_c = di_reservoir_valid(c) ? mis_c * t.pc_xc * c.unbiased_contribution_weight : 0.0f;
-  float w_o = di_reservoir_valid(o) ? mis_o * t.pc_xo * o.unbiased_contribution_weight : 0.0f;
-  float sum = w_c + w_o;
+  return merge_di_reservoirs_weighted(c, o, t, mis_c, mis_o, u);
+}
 
-  MergeResult r;
-  r.selected_other = sum > 0.0f && u * sum < w_o;
-  r.merged = r.selected_other ? o : c;
-  r.selected_target = r.selected_other ? t.pc_xo : t.pc_xc;
-  r.merged.confidence_weight = cm + om;
-  r.merged.unbiased_contribution_weight = r.selected_target > 0.0f ? sum / r.selected_target : 0.0f;
-  if (!(sum > 0.0f)) {
-    // Nothing to carry but the confidence: an empty sample with W = 0.
-    r.merged.unbiased_contribution_weight = 0.0f;
-  }
-  return r;
+// Bevy main's merge (realtime/restir.wesl, merge_reservoirs): the caller puts
+// visibility into the two cross targets (p_o(x_c)·V_o(x_c), p_c(x_o)·V_c(x_o)),
+// so a sample the other pixel cannot see takes no MIS share there; with
+// defensive = true (spatial reuse) the balance weights are mixed with the
+// canonical's confidence share t = c.M/(c.M+o.M):
+//   mis_c = t + (1−t)·balance(c.M·p_c(x_c), o.M·p_o(x_c)),
+//   mis_o = (1−t)·balance(o.M·p_o(x_o), c.M·p_c(x_o)),
+// which still sum to one over the two techniques for any sample.
+GI_FN MergeResult merge_di_reservoirs_defensive(DiReservoir c, DiReservoir o, MergeTargets t, bool defensive,
+                                                float u) {
+  float cm = c.confidence_weight;
+  float om = o.confidence_weight;
+  float total = cm + om;
+  float share = defensive ? (total > 0.0f ? cm / total : 1.0f) : 0.0f;
+  float mis_c = mix(balance_mis(cm * t.pc_xc, om * t.po_xc), 1.0f, share);
+  float mis_o = mix(balance_mis(om * t.po_xo, cm * t.pc_xo), 0.0f, share);
+  return merge_di_reservoirs_weighted(c, o, t, mis_c, mis_o, u);
 }
 
 GI_SHADER_END

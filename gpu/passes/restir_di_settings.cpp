@@ -20,6 +20,10 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_PLANE_TOLERANCE", f(plane_tolerance)},
           {"DI_NORMAL_MIN_DOT", f(normal_min_dot)},
           {"DI_BALANCE_MIS", balance_mis ? "1" : "0"},
+          {"DI_MIS_VISIBILITY", mis_visibility ? "1" : "0"},
+          {"DI_TARGET_BASE_COLOR", target_base_color ? "1" : "0"},
+          {"DI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
+          {"DI_TILE_PER_WORKGROUP", tile_per_workgroup ? "1" : "0"},
           {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"}};
 }

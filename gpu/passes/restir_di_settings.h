@@ -23,6 +23,20 @@ struct DiSettings {
   float plane_tolerance = 0.003f;
   float normal_min_dot = 0.906f;
   bool balance_mis = true;                // false: constant MIS (0.17)
+  // true (restir_di.mis_visibility, Bevy main): visibility in both cross MIS
+  // targets of every merge (two more rays per merge), defensive balance MIS
+  // in the spatial merge; replaces balance_mis's weights.
+  bool mis_visibility = false;
+  // true (restir_di.target = base_over_pi, Solari): the resampling target is
+  // luminance(L·cos·base/π); false: base·(1 − metallic)/π (pure metals: no DI).
+  bool target_base_color = true;
+  // true (restir_di.temporal_permutation, 0.18): the reprojected pixel is
+  // permuted within 4×4 blocks, falling back to point reprojection when the
+  // permuted pixel gives no valid reservoir; false: point reprojection only.
+  bool temporal_permutation = true;
+  // true (restir_di.tile_choice = workgroup, Solari): one light tile per 8×8
+  // workgroup, the same every frame; false: a random tile per pixel and frame.
+  bool tile_per_workgroup = true;
   bool visibility_final = true;           // false: spatial ray fed forward (0.17)
   // true: the initial winner's shadow ray zeroes its W and that W is stored
   // and reused (0.17 and 0.18 as released); false: the ray is not traced and

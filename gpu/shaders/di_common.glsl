@@ -6,7 +6,11 @@
 // DI_CONFIDENCE_CAP, DI_SPATIAL_RADIUS, DI_SPATIAL_TRIES, DI_PLANE_TOLERANCE,
 // DI_NORMAL_MIN_DOT, DI_BALANCE_MIS (1: balance heuristic, 0: constant),
 // DI_VISIBILITY_FINAL (1: 0.18 order, 0: 0.17 spatial ray fed forward),
-// DI_INITIAL_VISIBILITY (1: the initial winner's shadow ray zeroes its stored W).
+// DI_INITIAL_VISIBILITY (1: the initial winner's shadow ray zeroes its stored W),
+// DI_MIS_VISIBILITY (1: visibility in the cross MIS targets, defensive spatial
+// MIS), DI_TARGET_BASE_COLOR (1: target colour base, 0: base · (1 − metallic)),
+// DI_TEMPORAL_PERMUTATION (1: permuted reprojection, point fallback),
+// DI_TILE_PER_WORKGROUP (1: one frame-constant tile per 8×8 workgroup).
 #include "core/shared/light_tiles.h"
 #include "core/shared/reservoir.h"
 #include "core/shared/restir_di.h"
@@ -28,7 +32,7 @@ struct DiPixel {
   vec3 ns;        // shading normal on that side
   vec3 view;      // unit, towards the camera
   float view_z;
-  vec3 diffuse;
+  vec3 diffuse;   // the target's colour (DI_TARGET_BASE_COLOR)
   vec3 emissive;  // front face only
   uint material_index_unused;
   GBufferTexel g;
@@ -46,7 +50,11 @@ DiPixel di_pixel(uvec2 pixel) {
   d.ns = dot(d.g.shading_normal.xyz, d.ng) < 0.0 ? -d.g.shading_normal.xyz : d.g.shading_normal.xyz;
   d.view = -dir;
   d.view_z = dot(d.position - frame.camera.position.xyz, normalize(frame.camera.forward.xyz));
+#if DI_TARGET_BASE_COLOR != 0
+  d.diffuse = d.g.base_color_metallic.rgb;  // Solari: base_color / PI, metallic ignored
+#else
   d.diffuse = d.g.base_color_metallic.rgb * (1.0 - d.g.base_color_metallic.a);
+#endif
   d.emissive = front ? d.g.emissive_roughness.rgb : vec3(0.0);
   return d;
 }
@@ -65,4 +73,16 @@ float di_target_at(ResolvedLightSample r, vec3 position, vec3 ng, vec3 ns, vec3 
 bool di_dissimilar(DiPixel d, vec3 other_position, vec3 other_normal) {
   return pixel_dissimilar(d.view_z, d.position, other_position, d.ns, other_normal, DI_PLANE_TOLERANCE,
                           DI_NORMAL_MIN_DOT);
+}
+
+// The merge of reservoir o into canonical c at this pixel. DI_MIS_VISIBILITY:
+// the caller has put visibility into t.po_xc and t.pc_xo (Bevy main), and the
+// spatial merge (defensive) mixes in c's confidence share; otherwise the
+// profile's balance or constant weights.
+MergeResult di_merge(DiReservoir c, DiReservoir o, MergeTargets t, bool spatial, float u) {
+#if DI_MIS_VISIBILITY != 0
+  return merge_di_reservoirs_defensive(c, o, t, spatial, u);
+#else
+  return merge_di_reservoirs(c, o, t, DI_BALANCE_MIS != 0, u);
+#endif
 }

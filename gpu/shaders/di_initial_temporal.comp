@@ -1,11 +1,16 @@
 // ReSTIR DI, dispatch 1 of 2 (DESIGN §3 step 6): initial RIS over
-// DI_INITIAL_SAMPLES candidates of one random light tile (target: luminance of
-// the unshadowed contribution × diffuse BRDF, constant MIS 1/N), a shadow ray
-// on the winner; then temporal reuse of last frame's stored reservoir through
-// the motion vector, rejected when the surfaces differ (pixel_dissimilar) or
-// its light no longer exists, confidence capped at DI_CONFIDENCE_CAP,
-// visibility reused (no ray). Writes the merged reservoir for the spatial pass.
-// z indexes the independent chain.
+// DI_INITIAL_SAMPLES candidates of one light tile (DI_TILE_PER_WORKGROUP 1:
+// the 8×8 workgroup's frame-constant tile, Solari; 0: a random tile per pixel
+// and frame) (target: luminance of the unshadowed contribution × colour/π,
+// DI_TARGET_BASE_COLOR; constant MIS 1/N), a shadow ray on the winner; then
+// temporal reuse of last frame's stored reservoir through the motion vector
+// (DI_TEMPORAL_PERMUTATION 1: at the reprojected pixel permuted within 4×4
+// blocks, and where that gives no valid reservoir at the reprojected pixel
+// itself, Solari 0.18; 0: the reprojected pixel only, 0.17), rejected when
+// the surfaces differ (pixel_dissimilar) or its light no longer exists,
+// confidence capped at DI_CONFIDENCE_CAP, visibility reused (no ray; with
+// DI_MIS_VISIBILITY two rays for the cross MIS targets). Writes the merged
+// reservoir for the spatial pass. z indexes the independent chain.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
@@ -16,6 +21,17 @@ layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
 layout(std430, set = 0, binding = BINDING_LIGHT_TILE_SAMPLES) readonly buffer TileSamples { LightSample tile_samples[]; };
 layout(std430, set = 0, binding = BINDING_LIGHT_TILE_PACKED) readonly buffer TilePacked { PackedLightSample tile_packed[]; };
 layout(std430, set = 0, binding = BINDING_DI_LIGHT_TRANSLATION) readonly buffer Translation { uint light_translation[]; };
+
+// Last frame's surface and stored reservoir at pixel q, usable for temporal
+// reuse when that pixel had a surface similar to this one (pixel_dissimilar)
+// and its reservoir holds a sample (Solari's reservoir_valid).
+bool di_temporal_candidate(DiPixel d, uint chain, uvec2 q, out DiSurface s, out DiReservoir r) {
+  uvec2 resolution = frame.resolution_frame.xy;
+  uint q_index = q.y * resolution.x + q.x;
+  s = surfaces[q_index];
+  r = stored_reservoirs[chain * resolution.x * resolution.y + q_index];
+  return s.position_view_z.w > 0.0 && di_reservoir_valid(r) && !di_dissimilar(d, s.position_view_z.xyz, s.normal.xyz);
+}
 
 void main() {
   uvec2 resolution = frame.resolution_frame.xy;
@@ -33,9 +49,14 @@ void main() {
 
   // Initial candidates.
   uint per_chain = uint(LIGHT_TILE_COUNT) * uint(LIGHT_TILE_SAMPLES);
+#if DI_TILE_PER_WORKGROUP != 0
+  uint tile_start = chain * per_chain + di_workgroup_tile(gl_WorkGroupID.xy, uint(LIGHT_TILE_COUNT)) *
+                                            uint(LIGHT_TILE_SAMPLES);
+#else
   uint tile_start = chain * per_chain +
                     min(uint(rng_next_float(rng) * float(LIGHT_TILE_COUNT)), uint(LIGHT_TILE_COUNT) - 1u) *
                         uint(LIGHT_TILE_SAMPLES);
+#endif
   RisStream ris = ris_begin();
   uint selected = 0xFFFFFFFFu;
   for (uint i = 0u; i < uint(DI_INITIAL_SAMPLES); ++i) {
@@ -68,11 +89,17 @@ void main() {
     vec2 previous = vec2(pixel) + vec2(0.5) + motion.xy;
     ivec2 q = ivec2(floor(previous));
     if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
-      uint q_index = uint(q.y) * resolution.x + uint(q.x);
-      DiSurface s = surfaces[q_index];
-      DiReservoir temporal = stored_reservoirs[chain * resolution.x * resolution.y + q_index];
-      bool usable = s.position_view_z.w > 0.0 && di_reservoir_valid(temporal) &&
-                    !di_dissimilar(d, s.position_view_z.xyz, s.normal.xyz);
+      DiSurface s;
+      DiReservoir temporal;
+#if DI_TEMPORAL_PERMUTATION != 0
+      uvec2 permuted = di_permute_pixel(uvec2(q), di_permutation_random(frame.resolution_frame.z), resolution);
+      bool usable = di_temporal_candidate(d, chain, permuted, s, temporal);
+      // Where the permuted pixel gives no valid reservoir (object edges), the
+      // reprojected pixel itself.
+      if (!usable) usable = di_temporal_candidate(d, chain, uvec2(q), s, temporal);
+#else
+      bool usable = di_temporal_candidate(d, chain, uvec2(q), s, temporal);
+#endif
       if (usable) {
         uint id = temporal.light.light_id < push.previous_light_count ? light_translation[temporal.light.light_id]
                                                                       : LIGHT_ID_GONE;
@@ -81,6 +108,7 @@ void main() {
       }
       if (usable) {
         temporal.confidence_weight = min(temporal.confidence_weight, float(DI_CONFIDENCE_CAP));
+        vec3 prev_position = s.position_view_z.xyz;
         vec3 prev_ng = s.normal.xyz;  // the previous surface's normal stands in for both of its normals
         MergeTargets t;
         t.pc_xc = 0.0;
@@ -88,12 +116,20 @@ void main() {
         if (di_reservoir_valid(canonical)) {
           ResolvedLightSample rc = di_resolve(canonical.light);
           t.pc_xc = di_target_at(rc, d.position, d.ng, d.ns, d.diffuse);
-          t.po_xc = di_target_at(rc, s.position_view_z.xyz, prev_ng, prev_ng, s.diffuse.rgb);
+          t.po_xc = di_target_at(rc, prev_position, prev_ng, prev_ng, s.diffuse.rgb);
+#if DI_MIS_VISIBILITY != 0
+          // Bevy main traces this against last frame's scene; here the
+          // current one (the same while geometry events reset history).
+          if (t.po_xc > 0.0 && !light_sample_visible(prev_position, prev_ng, rc)) t.po_xc = 0.0;
+#endif
         }
         ResolvedLightSample ro = di_resolve(temporal.light);
-        t.po_xo = di_target_at(ro, s.position_view_z.xyz, prev_ng, prev_ng, s.diffuse.rgb);
+        t.po_xo = di_target_at(ro, prev_position, prev_ng, prev_ng, s.diffuse.rgb);
         t.pc_xo = di_target_at(ro, d.position, d.ng, d.ns, d.diffuse);
-        MergeResult m = merge_di_reservoirs(canonical, temporal, t, DI_BALANCE_MIS != 0, rng_next_float(rng));
+#if DI_MIS_VISIBILITY != 0
+        if (t.pc_xo > 0.0 && !light_sample_visible(d.position, d.ng, ro)) t.pc_xo = 0.0;
+#endif
+        MergeResult m = di_merge(canonical, temporal, t, false, rng_next_float(rng));
         canonical = m.merged;
       }
     }

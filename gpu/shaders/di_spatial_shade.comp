@@ -8,6 +8,9 @@
 //     sample's shadow ray for shading only (not fed forward).
 //   0 (0.17): trace a ray to the spatial sample before merging, fold it into
 //     that sample's W, store the result (fed forward); shade without a ray.
+// DI_MIS_VISIBILITY 1 (Bevy main): the cross targets p_c(x_o) and p_o(x_c)
+// carry the sample's visibility from the pixel that evaluates them (two rays)
+// and the merge uses defensive balance MIS.
 //
 // Output: emitted radiance of the surface + the reservoir's sample shaded with
 // the full BRDF (core/shared/direct_integrator.h defines "DI" the same way);
@@ -67,16 +70,23 @@ void main() {
         ResolvedLightSample rc = di_resolve(canonical.light);
         t.pc_xc = di_target_at(rc, d.position, d.ng, d.ns, d.diffuse);
         t.po_xc = di_target_at(rc, n.position, n.ng, n.ns, n.diffuse);
+#if DI_MIS_VISIBILITY != 0
+        if (t.po_xc > 0.0 && !light_sample_visible(n.position, n.ng, rc)) t.po_xc = 0.0;
+#endif
       }
       if (di_reservoir_valid(other)) {
         ResolvedLightSample ro = di_resolve(other.light);
         t.po_xo = di_target_at(ro, n.position, n.ng, n.ns, n.diffuse);
         t.pc_xo = di_target_at(ro, d.position, d.ng, d.ns, d.diffuse);
-#if DI_VISIBILITY_FINAL == 0
+#if DI_MIS_VISIBILITY != 0
+        // Visibility from this pixel in the target: an occluded sample gets
+        // no resampling weight (what the fed-forward ray of 0.17 also does).
+        if (t.pc_xo > 0.0 && !light_sample_visible(d.position, d.ng, ro)) t.pc_xo = 0.0;
+#elif DI_VISIBILITY_FINAL == 0
         if (t.pc_xo > 0.0 && !light_sample_visible(d.position, d.ng, ro)) other.unbiased_contribution_weight = 0.0;
 #endif
       }
-      MergeResult m = merge_di_reservoirs(canonical, other, t, DI_BALANCE_MIS != 0, rng_next_float(rng));
+      MergeResult m = di_merge(canonical, other, t, true, rng_next_float(rng));
       canonical = m.merged;
     }
     stored_reservoirs[slot] = canonical;

@@ -153,11 +153,20 @@ GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, vec3 tc, GiReservoir o, ve
     if (!gi_finite(raw)) atomicAdd(gi_stats.nonfinite_jacobians, 1u);
     t.j_co = gi_finite(raw) ? raw : 0.0;
 #if GI_JACOBIAN_REJECTION != 0
-    // GI_JACOBIAN_BOTH (Solari 0.19, v0.19.0 realtime/restir_gi.wgsl:276,
-    // Bevy #23968): also refuse the pair when moving the canonical sample to
-    // the other pixel has a jacobian above the threshold, which bounds the
-    // factor a sample's weight can pick up per hop in both directions.
-    if (t.j_co > float(GI_JACOBIAN_REJECT) || (GI_JACOBIAN_BOTH != 0 && t.j_oc > float(GI_JACOBIAN_REJECT))) {
+    // GI_JACOBIAN_BOTH bounds the factor a sample's weight picks up per hop
+    // from below too. Solari 0.19 (v0.19.0 realtime/restir_gi.wgsl:276, Bevy
+    // #23968) refuses the pair when either sample's move has J above the
+    // threshold; the consistent weights use the per-sample form of that rule,
+    // J_co(x_o) in [1/threshold, threshold] (and the same for x_c below), so
+    // which shifts are allowed does not depend on the other pixel's sample.
+#if GI_JACOBIAN_BOTH != 0 && GI_CONSISTENT_MIS != 0
+    bool refuse = t.j_co > float(GI_JACOBIAN_REJECT) || t.j_co * float(GI_JACOBIAN_REJECT) < 1.0;
+#elif GI_JACOBIAN_BOTH != 0
+    bool refuse = t.j_co > float(GI_JACOBIAN_REJECT) || t.j_oc > float(GI_JACOBIAN_REJECT);
+#else
+    bool refuse = t.j_co > float(GI_JACOBIAN_REJECT);
+#endif
+    if (refuse) {
       atomicAdd(gi_stats.rejections, 1u);
 #if GI_CONSISTENT_MIS != 0
       // Its sample is refused, its confidence still counts: the canonical
@@ -178,8 +187,12 @@ GiReservoir gi_merge(GiReservoir c, vec3 pc, vec3 nc, vec3 tc, GiReservoir o, ve
   t.po_xc = c_valid && c_visible_at_o ? gi_target(c.radiance.rgb * to, c.sample_position.xyz, po, no) : 0.0;
 #if GI_CONSISTENT_MIS != 0 && GI_JACOBIAN_REJECTION != 0
   // o could have produced c's sample only through a shift of jacobian
-  // 1/J_oc, refused above the threshold: then it has no share of it.
+  // 1/J_oc, refused above the threshold (and, GI_JACOBIAN_BOTH, below its
+  // inverse): then it has no share of it.
   if (!(t.j_oc * float(GI_JACOBIAN_REJECT) >= 1.0)) t.po_xc = 0.0;
+#if GI_JACOBIAN_BOTH != 0
+  if (t.j_oc > float(GI_JACOBIAN_REJECT)) t.po_xc = 0.0;
+#endif
 #endif
   t.po_xo = o_valid ? gi_target(o.radiance.rgb * to, o.sample_position.xyz, po, no) : 0.0;
   t.pc_xo = o_valid ? gi_target(o.radiance.rgb * tc, o.sample_position.xyz, pc, nc) : 0.0;
