@@ -109,7 +109,7 @@ TEST(DiFidelity, ProfilesHoldBevysDiValuesWithTagFileLineSources) {
   }
   EXPECT_TRUE(p18.flag("restir_di.temporal_permutation"));
   EXPECT_FALSE(p17.flag("restir_di.temporal_permutation"));
-  const std::regex cited(R"(^v0\.1[78]\.0:crates/bevy_solari/src/[a-z_/]+\.wgsl:[0-9]+)");
+  const std::regex cited(R"(^v0\.1[78]\.0:realtime/[a-z_]+\.wgsl:[0-9]+)");
   for (const auto& [p, tag] : {std::pair{&p17, "v0.17.0:"}, std::pair{&p18, "v0.18.0:"}})
     for (const char* key : {"restir_di.target", "restir_di.tile_choice", "restir_di.temporal_permutation",
                             "restir_di.mis_visibility"}) {

@@ -20,8 +20,8 @@ struct GiRun {
 };
 
 // A realtime GI scenario of `scene` (a scene object) with `sets` applied.
-GiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::string& tag, int frames = 12,
-           int size = 64) {
+GiGiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::string& tag, int frames = 12,
+           int size = 64, bool noise = false) {
   test::TempDir dir("gi_fidelity_" + tag);
   const nlohmann::json doc = {{"name", "gi_fidelity_" + tag},
                               {"scene", scene},
@@ -31,6 +31,7 @@ GiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::st
                               {"profile", "solari-0.18"},
                               {"mode", "realtime"},
                               {"gi", true},
+                              {"noise", noise},
                               {"checks", {{{"name", "finite"}}}}};
   const std::filesystem::path file = dir.path() / "scenario.json";
   std::ofstream(file) << doc.dump(1);
@@ -123,6 +124,48 @@ TEST(GiFidelity, VisibilityOrdersDifferAndAgreeInEnergy) {
   EXPECT_NE(final_ray.summary["final_image_hash"], fed.summary["final_image_hash"]);
   const double a = signal_mean(final_ray, "gi", 4), b = signal_mean(fed, "gi", 4);
   EXPECT_NEAR(a / b, 1.0, 0.08) << "final " << a << ", fed forward " << b;
+}
+
+std::uint64_t total_rejections(const GiRun& r) {
+  std::uint64_t m = 0;
+  for (const auto& f : r.summary.at("frames")) m += f.at("gi").at("rejections").get<std::uint64_t>();
+  return m;
+}
+
+// 0.19 refuses a pair when either sample's move has J above the threshold
+// (v0.19.0 realtime/restir_gi.wgsl:276); 0.18 tests the other sample's only.
+TEST(GiFidelity, BothDirectionRejectionRefusesMorePairs) {
+  const GiRun one = run_gi({{"generator", "gi_corners"}}, "--set restir_gi.jacobian_rejection_directions=one", "jrej_one");
+  const GiRun both = run_gi({{"generator", "gi_corners"}}, "--set restir_gi.jacobian_rejection_directions=both", "jrej_both");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  ASSERT_EQ(both.exit_code, 0) << both.output;
+  EXPECT_GT(total_rejections(both), total_rejections(one) + total_rejections(one) / 10);
+}
+
+// Issue 25's measure: a run with two chains reports each signal's per-frame
+// noise from the chains and over time; a one-chain run reports only the
+// temporal figure, and says so with a null.
+TEST(GiNoise, TwoChainRunsReportPerSignalNoise) {
+  const GiRun two = run_gi(kCornell, "", "noise_two", 20, 48, true);
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  const nlohmann::json& n = two.summary.at("noise");
+  EXPECT_EQ(n.at("chain").at("frame").get<int>(), 19);
+  for (const char* signal : {"output", "di", "gi", "specular"}) {
+    ASSERT_TRUE(n["chain"]["signals"].contains(signal)) << n.dump(1);
+    EXPECT_GE(n["chain"]["signals"][signal].get<double>(), 0.0);
+  }
+  EXPECT_GT(n["chain"]["signals"]["gi"].get<double>(), 0.0);
+  EXPECT_GT(n["chain"]["signals"]["di"].get<double>(), 0.0);
+  EXPECT_EQ(n.at("temporal").at("frames").get<int>(), 10);
+  EXPECT_GT(n["temporal"]["signals"]["gi"].get<double>(), 0.0);
+  // The output's noise is at least that of its largest part (they add up,
+  // with covariances).
+  EXPECT_GE(n["chain"]["signals"]["output"].get<double>() * 1.5, n["chain"]["signals"]["gi"].get<double>());
+
+  const GiRun one = run_gi(kCornell, "", "noise_one", 20, 48, false);
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_TRUE(one.summary.at("noise").at("chain").is_null());
+  EXPECT_GT(one.summary["noise"]["temporal"]["signals"]["gi"].get<double>(), 0.0);
 }
 
 }  // namespace

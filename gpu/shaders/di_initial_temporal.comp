@@ -119,7 +119,7 @@ void main() {
           t.po_xc = di_target_at(rc, prev_position, prev_ng, prev_ng, s.diffuse.rgb);
 #if DI_MIS_VISIBILITY != 0
           // Bevy main traces this against last frame's scene; here the
-          // current one (the same while geometry events reset history).
+          // current one (the same across geometry events, which keep history).
           if (t.po_xc > 0.0 && !light_sample_visible(prev_position, prev_ng, rc)) t.po_xc = 0.0;
 #endif
         }

@@ -1,15 +1,18 @@
-// Specular GI (DESIGN §3 step 8; seeds/solari-0.18.md "Specular GI"): the
+// Specular GI (DESIGN §3 step 8; Bevy v0.18.0 realtime/specular_gi.wgsl): the
 // specular lobe's indirect light at each pixel.
 // - alpha > SPECULAR_REUSE_ROUGHNESS: reuse this frame's final GI reservoir
 //   (its direction and radiance · W) with the specular BRDF.
 // - else sample GGX with bounded VNDF (the mirror special case at alpha ≤
 //   0.001) and trace_glossy_path: up to SPECULAR_MAX_BOUNCES bounces;
 //   emissive hits count from the second vertex on (DI owns the first), NEE
-//   at non-mirror vertices, balance-heuristic MIS between the two, a rough
-//   hit ends the path in end_path_radiance (GI_HIT_RADIANCE 2: the world
-//   cache, pixel-rooted, as Solari); hit_radiance.glsl.
+//   at non-mirror vertices, MIS between the two by the power heuristic
+//   (SPECULAR_POWER_MIS, Solari's) or the balance heuristic; the path ends in
+//   end_path_radiance (GI_HIT_RADIANCE 2: the world cache, pixel-rooted, as
+//   Solari) when its spread outgrows the cell (SPECULAR_PATH_SPREAD, Solari
+//   0.18) or else at the first hit rougher than SPECULAR_REUSE_ROUGHNESS;
+//   hit_radiance.glsl.
 // The primary surface's roughness is clamped by SPECULAR_MIN_PERCEPTUAL_ROUGHNESS
-// (brdf.min_perceptual_roughness; 0 = Solari 0.17, NaN on zero roughness).
+// (brdf.min_perceptual_roughness; 0: no clamp, NaN at zero roughness).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
