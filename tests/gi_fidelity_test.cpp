@@ -20,7 +20,7 @@ struct GiRun {
 };
 
 // A realtime GI scenario of `scene` (a scene object) with `sets` applied.
-GiGiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::string& tag, int frames = 12,
+GiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::string& tag, int frames = 12,
            int size = 64, bool noise = false) {
   test::TempDir dir("gi_fidelity_" + tag);
   const nlohmann::json doc = {{"name", "gi_fidelity_" + tag},
