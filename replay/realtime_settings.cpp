@@ -1,5 +1,10 @@
 #include "replay/realtime_settings.h"
 
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
 #include "gpu/passes/di_pipeline.h"
 
 namespace gi {
@@ -53,7 +58,22 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   return s;
 }
 
+namespace {
+
+// The enum value a string key names. Profiles are validated against their
+// "allowed" lists on load, so an unlisted value here is a programming error.
+template <class E>
+E choice(const Profile& p, const std::string& key, std::initializer_list<std::pair<const char*, E>> values) {
+  const std::string& v = p.text(key);
+  for (const auto& [name, e] : values)
+    if (v == name) return e;
+  throw std::logic_error("profile key " + key + ": no setting for \"" + v + "\"");
+}
+
+}  // namespace
+
 gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains) {
+  using G = gpu::GiSettings;
   gpu::GiSettings s;
   s.confidence_cap = static_cast<float>(p.number("restir_gi.confidence_cap"));
   s.spatial_radius = static_cast<float>(p.number("restir_gi.spatial_radius_px"));
@@ -64,25 +84,25 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
   s.jacobian_both = p.text("restir_gi.jacobian_rejection_directions") == "both";
   s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
-  const std::string fallback = p.text("restir_gi.temporal_fallback");
-  s.temporal_fallback = fallback == "point"   ? gpu::GiSettings::TemporalFallback::point
-                        : fallback == "retry" ? gpu::GiSettings::TemporalFallback::retry
-                                              : gpu::GiSettings::TemporalFallback::none;
+  s.temporal_fallback = choice<G::TemporalFallback>(p, "restir_gi.temporal_fallback",
+                                                    {{"point", G::TemporalFallback::point},
+                                                     {"retry", G::TemporalFallback::retry},
+                                                     {"none", G::TemporalFallback::none}});
   s.target_brdf = p.text("restir_gi.target") == "base_over_pi";
   s.temporal_history_pre_spatial = p.text("restir_gi.temporal_history") == "temporal";
   s.empty_no_confidence = p.text("restir_gi.empty_samples") == "no_confidence";
-  const std::string emissive = p.text("restir_gi.emissive_hit_test");
-  s.emissive_test = emissive == "all_channels"  ? gpu::GiSettings::EmissiveTest::all_channels
-                    : emissive == "any_channel" ? gpu::GiSettings::EmissiveTest::any_channel
-                                                : gpu::GiSettings::EmissiveTest::front_any_channel;
+  s.emissive_test = choice<G::EmissiveTest>(p, "restir_gi.emissive_hit_test",
+                                            {{"all_channels", G::EmissiveTest::all_channels},
+                                             {"any_channel", G::EmissiveTest::any_channel},
+                                             {"front_any_channel", G::EmissiveTest::front_any_channel}});
   s.visibility_final = p.text("restir_gi.visibility") == "final";
   s.shading_diffuse = p.text("restir_gi.diffuse_shading") == "diffuse";
   s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
   s.consistent_mis = p.text("restir_gi.mis_weights") == "consistent";
-  const std::string hit = p.text("restir_gi.hit_radiance");
-  s.hit_radiance = hit == "nee"           ? gpu::GiSettings::HitRadiance::nee
-                   : hit == "world_cache" ? gpu::GiSettings::HitRadiance::world_cache
-                                          : gpu::GiSettings::HitRadiance::path;
+  s.hit_radiance = choice<G::HitRadiance>(p, "restir_gi.hit_radiance",
+                                          {{"nee", G::HitRadiance::nee},
+                                           {"world_cache", G::HitRadiance::world_cache},
+                                           {"path", G::HitRadiance::path}});
   s.ray_tmax = static_cast<float>(p.number("restir_gi.ray_tmax"));
   s.specular = p.flag("specular.enabled");
   s.specular_reuse_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));

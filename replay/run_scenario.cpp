@@ -254,13 +254,19 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     Image mean = realtime_mean(0);
     const Image mean_b = realtime_mean(1);
     for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (mean.pixels[i] + mean_b.pixels[i]);
-    nlohmann::json signals = {{"output", json_figure(chain_noise(realtime_frame(0), realtime_frame(1), mean))},
-                              {"di", json_figure(chain_noise(renderer->di().frame(0), renderer->di().frame(1), mean))}};
-    if (gi) {
-      signals["gi"] = json_figure(chain_noise(renderer->gi().gi_frame(0), renderer->gi().gi_frame(1), mean));
-      signals["specular"] =
-          json_figure(chain_noise(renderer->gi().specular_frame(0), renderer->gi().specular_frame(1), mean));
+    // Each chain's signals, read back once.
+    std::map<std::string, Image> a, b;
+    for (auto [chain, out] : {std::pair{0u, &a}, std::pair{1u, &b}}) {
+      (*out)["di"] = renderer->di().frame(chain);
+      (*out)["output"] = (*out)["di"];
+      if (gi) {
+        (*out)["gi"] = renderer->gi().gi_frame(chain);
+        (*out)["specular"] = renderer->gi().specular_frame(chain);
+        (*out)["output"] = sum_images(sum_images((*out)["output"], (*out)["gi"]), (*out)["specular"]);
+      }
     }
+    nlohmann::json signals = nlohmann::json::object();
+    for (const auto& [name, image] : a) signals[name] = json_figure(chain_noise(image, b.at(name), mean));
     return nlohmann::json{{"frame", frame},
                           {"method", "per-frame relMSE of one chain against its expectation: mean over pixels and "
                                      "channels of (A - B)^2 / 2 / (m^2 + 0.01), A and B the two chains' signal at "

@@ -17,11 +17,7 @@
 namespace gi {
 namespace {
 
-struct GiRun {
-  int exit_code;
-  std::string output;
-  nlohmann::json summary;
-};
+using GiRun = test::ScenarioRun;
 
 GiRun run_scenario_file(const std::string& scenario, const std::string& extra, const std::string& tag) {
   test::TempDir dir("gi_" + tag);

@@ -15,11 +15,7 @@
 namespace gi {
 namespace {
 
-struct GiRun {
-  int exit_code;
-  std::string output;
-  nlohmann::json summary;
-};
+using GiRun = test::ScenarioRun;
 
 // A realtime GI scenario of `scene` (a scene object) with `sets` applied.
 GiRun run_gi(const nlohmann::json& scene, const std::string& sets, const std::string& tag, int frames = 12,

@@ -17,6 +17,14 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
+// A `giharness run`: its exit code and output, and its summary.json (empty
+// when the run wrote none).
+struct ScenarioRun {
+  int exit_code = -1;
+  std::string output;
+  nlohmann::json summary;
+};
+
 // Runs `giharness <args>` with extra environment assignments (e.g.
 // "LP_NUM_THREADS=1"), capturing its output.
 CommandResult run_giharness(const std::string& args, const std::string& env = "");
