@@ -118,6 +118,10 @@ struct Scenario {
   // runs two chains anyway; otherwise it doubles the DI/GI passes' cost and
   // the second chain's cache queries touch the world cache, so it is opt-in.
   bool noise = false;
+  // Realtime, debug: the world cache's view (a cache query at every primary
+  // surface each frame, Bevy's VISUALIZE_WORLD_CACHE). Its queries keep cells
+  // alive, so it changes the cache it shows; captures gain a "cache_view" layer.
+  bool cache_view = false;
   std::uint32_t samples_per_frame = 1;
   std::optional<CameraSpec> camera;
   std::vector<Event> events;    // in file order

@@ -9,7 +9,8 @@
 
 namespace gi {
 
-gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& scene, std::uint32_t chains) {
+gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& scene, std::uint32_t chains,
+                                         bool with_specular_gi) {
   gpu::DiSettings s;
   s.tile_count = static_cast<std::uint32_t>(p.integer("light_tiles.tile_count"));
   s.initial_samples = static_cast<std::uint32_t>(p.integer("restir_di.initial_samples"));
@@ -30,7 +31,9 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.tile_per_workgroup = p.text("restir_di.tile_choice") == "workgroup";
   s.visibility_final = p.text("restir_di.visibility") == "final";
   s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
+  s.shading_base_over_pi = p.text("restir_di.shading") == "base_over_pi";
   s.chains = chains;
+  if (with_specular_gi) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   return s;
 }
 
@@ -109,6 +112,7 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.specular_max_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
   s.specular_power_mis = p.text("specular.mis") == "power";
   s.specular_path_spread = p.text("specular.path_end") == "path_spread";
+  if (s.specular) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
   s.chains = chains;

@@ -11,8 +11,11 @@
 namespace gi {
 
 // `chains` independent DI chains (2 when a reference check needs an honest
-// noise estimate, replay/checks/realtime_reference_check.h).
-gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInstances& scene, std::uint32_t chains);
+// noise estimate, replay/checks/realtime_reference_check.h). With specular GI
+// running beside it, DI leaves the smoothest surfaces' specular lobe to it
+// (specular.di_handover_alpha); alone it shades the full BRDF.
+gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInstances& scene, std::uint32_t chains,
+                                         bool with_specular_gi);
 
 // The world cache's constants (world_cache.*, and light_tiles.* for the radiance
 // encoding its direct samples see); the instrumentation flags are the caller's.

@@ -140,8 +140,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   renderer_options.reference = !realtime;
   if (realtime) {
     renderer_options.gbuffer = true;
-    renderer_options.di =
-        di_settings_from_profile(profile, flatten_instances(scene, geometry), realtime_check || scenario.noise ? 2u : 1u);
+    renderer_options.di = di_settings_from_profile(profile, flatten_instances(scene, geometry),
+                                                   realtime_check || scenario.noise ? 2u : 1u,
+                                                   scenario.gi && profile.flag("specular.enabled"));
   }
   // ReSTIR GI + specular GI ("gi": true): the output becomes DI + GI + specular.
   const bool gi = realtime && scenario.gi;
@@ -155,22 +156,33 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     jacobian_check.emplace(jacobian_check_params(*spec, scenario, profile.number("restir_gi.jacobian_reject")));
   }
   if (gi) renderer_options.gi = gi_settings_from_profile(profile, realtime_check || scenario.noise ? 2u : 1u);
-  // The world cache runs when a check reads it; the root-frame instrumentation
-  // is compiled in only for cache_lifetime.
+  // The world cache runs when GI queries it (or the debug view); the
+  // root-frame instrumentation is compiled in only for cache_lifetime.
   std::optional<CacheLifetimeCheck> cache_lifetime_check;
   std::optional<BlendLagParams> blend_lag;
-  std::vector<BlendLagSignal> blend_lag_signals = {{"cache_view_luminance", {}}, {"cache_mean_radiance", {}}};
+  std::map<std::string, BlendLagSignal> blend_lag_signals;  // every available signal, per frame
+  if (scenario.cache_view && !realtime)
+    throw InputError(scenario.file.string(), "/cache_view", "\"cache_view\": true in \"mode\": \"realtime\" only");
+  // Without the debug view only GI's queries put cells in the cache.
+  const bool cache_fed = scenario.cache_view || (renderer_options.gi && renderer_options.gi->queries_world_cache());
   for (const char* name : {"cache_lifetime", "blend_lag"})
     if (const CheckSpec* spec = scenario.find_check(name); spec && !realtime)
       throw InputError(scenario.file.string(), spec->json_path + "/name",
                        fmt::format("\"{}\" reads the world cache, which runs in \"mode\": \"realtime\" only", name));
+  for (const char* name : {"cache_lifetime", "blend_lag"})
+    if (const CheckSpec* spec = scenario.find_check(name); spec && !cache_fed)
+      throw InputError(scenario.file.string(), spec->json_path + "/name",
+                       fmt::format("\"{}\" reads the world cache, which only GI's queries fill: set \"gi\": true "
+                                   "(restir_gi.hit_radiance world_cache), or the debug \"cache_view\": true",
+                                   name));
   if (const CheckSpec* spec = scenario.find_check("cache_lifetime"))
     cache_lifetime_check.emplace(cache_lifetime_params(
         *spec, scenario, static_cast<std::uint32_t>(profile.integer("world_cache.lifetime")), frames));
   if (const CheckSpec* spec = scenario.find_check("blend_lag")) blend_lag = blend_lag_params(*spec, scenario);
-  // Also when ReSTIR GI queries it (restir_gi.hit_radiance world_cache).
-  if (cache_lifetime_check || blend_lag || (renderer_options.gi && renderer_options.gi->queries_world_cache())) {
+  // The world cache runs when something queries it.
+  if (cache_fed) {
     gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
+    cache.view = scenario.cache_view;
     cache.stats = true;
     cache.root_frame = cache_lifetime_check.has_value();
     renderer_options.world_cache = cache;
@@ -320,6 +332,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     // Realtime: chain A's signals, read back once; each signal's mean
     // luminance goes into the frame record.
     nlohmann::json signal_luminance = nullptr;
+    double gi_luminance = 0.0;
     if (realtime) {
       const Image di_image = renderer->di().frame(0);
       Image gi_image, specular_image;
@@ -328,7 +341,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
       if (gi) {
         gi_image = renderer->gi().gi_frame(0);
         specular_image = renderer->gi().specular_frame(0);
-        signal_luminance["gi"] = json_figure(mean_luminance(gi_image));
+        gi_luminance = mean_luminance(gi_image);
+        signal_luminance["gi"] = json_figure(gi_luminance);
         signal_luminance["specular"] = json_figure(mean_luminance(specular_image));
         last_mean = sum_images(sum_images(last_mean, gi_image), specular_image);
       }
@@ -376,16 +390,22 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
           cluster_ids_check->record_frame(frame, renderer->packed_visibility(), renderer->cluster_table());
     if (renderer_options.world_cache) {
       const gpu::WorldCacheFrameStats cache = renderer->world_cache().stats();
-      const double view_luminance = mean_luminance(renderer->cache_view());
       record["world_cache"] = {{"active_cells", cache.active_cells},
                                {"live_cells", cache.live_cells},
                                {"mean_radiance", json_figure(cache.mean_radiance)},
-                               {"view_mean_luminance", json_figure(view_luminance)},
                                {"oldest_age", cache.oldest_age},
                                {"over_age_cells", cache.over_age_cells}};
+      std::map<std::string, double> lag_signal = {{"output_luminance", mean_luminance(last_mean)}};
+      if (gi) {
+        lag_signal["gi_luminance"] = gi_luminance;
+        lag_signal["cache_mean_radiance"] = cache.mean_radiance;
+      }
+      if (scenario.cache_view) {
+        lag_signal["cache_view_luminance"] = mean_luminance(renderer->cache_view());
+        record["world_cache"]["view_mean_luminance"] = json_figure(lag_signal["cache_view_luminance"]);
+      }
       if (cache_lifetime_check) cache_lifetime_check->record_frame(frame, cache);
-      blend_lag_signals[0].values.push_back(view_luminance);
-      blend_lag_signals[1].values.push_back(cache.mean_radiance);
+      for (const auto& [name, value] : lag_signal) blend_lag_signals[name].values.push_back(value);
     }
     frame_log.add(record);
     if (hash_log) hash_log->add(state_hashes(frame));
@@ -406,6 +426,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
         exr.emplace_back("gi", &gi_layer);
         exr.emplace_back("specular", &specular_layer);
       }
+      const Image cache_view_layer = scenario.cache_view ? renderer->cache_view() : Image();
+      if (scenario.cache_view) exr.emplace_back("cache_view", &cache_view_layer);
       for (std::size_t i = 0; i < names.size(); ++i) exr.emplace_back(names[i], &layers[i]);
       // Everything a replay needs to rebuild this run (replay/capture.h).
       nlohmann::json manifest = {
@@ -469,7 +491,11 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   if (cluster_ids_check) result.checks.push_back(cluster_ids_check->result());
   if (cache_lifetime_check) result.checks.push_back(cache_lifetime_check->result());
   if (jacobian_check) result.checks.push_back(jacobian_check->result());
-  if (blend_lag) result.checks.push_back(judge_blend_lag(*blend_lag, lighting_event_frames(scenario), blend_lag_signals));
+  if (blend_lag) {
+    std::vector<BlendLagSignal> curves;
+    for (auto& [name, signal] : blend_lag_signals) curves.push_back({name, std::move(signal.values)});
+    result.checks.push_back(judge_blend_lag(*blend_lag, lighting_event_frames(scenario), curves));
+  }
   if (finite_check) {
     CheckResult c;
     c.name = "finite";

@@ -2,11 +2,14 @@
 // curves and statistics (each failure fires on the bug it exists for), then
 // the four verdicts on the issue-4 scenarios — 0.18 passes both checks, 0.17's
 // lifetime rule fails cache_lifetime, 0.17's fixed blend fails blend_lag.
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "core/errors.h"
 #include "core/scenario.h"
 #include "replay/checks/blend_lag_check.h"
 #include "replay/checks/cache_lifetime_check.h"
@@ -31,7 +34,7 @@ std::vector<double> step_curve(std::size_t frames, std::size_t event, double bef
 TEST(BlendLagJudge, FastSettlingPasses) {
   BlendLagParams p;  // ε 5 %, δ 2 %, limit 10, 8 steady frames
   // Settles within 2 frames: 0.2² · 100 = 4 < 5 % of 100.
-  const CheckResult r = judge_blend_lag(p, {40}, {{"cache_view_luminance", step_curve(80, 40, 100.0, 0.0, 0.2)}});
+  const CheckResult r = judge_blend_lag(p, {40}, {{"output_luminance", step_curve(80, 40, 100.0, 0.0, 0.2)}});
   EXPECT_EQ(r.verdict, Verdict::pass) << r.message;
   EXPECT_EQ(r.figures["max_lag_frames"], 1);
 }
@@ -41,7 +44,7 @@ TEST(BlendLagJudge, SlowExponentialFailsWithLagInFrames) {
   // 0.17's fixed blend: 1/20 of each new sample, so the old level keeps 0.95
   // per frame. The window's last 8 frames average 0.5, the band is ±5 around
   // it: 100 · 0.95^n ≤ 5.5 from n = 57, i.e. frame 66, a lag of 56 frames.
-  const CheckResult r = judge_blend_lag(p, {10}, {{"cache_view_luminance", step_curve(120, 10, 100.0, 0.0, 0.95)}});
+  const CheckResult r = judge_blend_lag(p, {10}, {{"output_luminance", step_curve(120, 10, 100.0, 0.0, 0.95)}});
   EXPECT_EQ(r.verdict, Verdict::fail);
   EXPECT_NE(r.message.find("lag 56 frames after the event at frame 10"), std::string::npos) << r.message;
   EXPECT_EQ(r.first_failing_frame, 21u);  // event + limit + 1
@@ -51,7 +54,7 @@ TEST(BlendLagJudge, NotSettledWithinTheWindowFails) {
   BlendLagParams p;
   // Still falling 10 % a frame at the end of a 20-frame window: the last frame
   // lies outside the band around the mean of the last 8, so no steady state.
-  const CheckResult r = judge_blend_lag(p, {10}, {{"cache_view_luminance", step_curve(30, 10, 100.0, 0.0, 0.9)}});
+  const CheckResult r = judge_blend_lag(p, {10}, {{"output_luminance", step_curve(30, 10, 100.0, 0.0, 0.9)}});
   EXPECT_EQ(r.verdict, Verdict::fail);
   EXPECT_NE(r.message.find("not settled within 20 frames"), std::string::npos) << r.message;
 }
@@ -60,11 +63,11 @@ TEST(BlendLagJudge, NoisyStaticWindowFails) {
   BlendLagParams p;
   std::vector<double> v(60, 100.0);
   for (std::size_t t = 0; t < v.size(); ++t) v[t] += (t % 2 ? 1.5 : -1.5);  // 3 % jumps
-  const CheckResult r = judge_blend_lag(p, {}, {{"cache_view_luminance", v}});
+  const CheckResult r = judge_blend_lag(p, {}, {{"output_luminance", v}});
   EXPECT_EQ(r.verdict, Verdict::fail);
   EXPECT_NEAR(r.figures["max_static_variation"].get<double>(), 0.03, 1e-3);
   p.delta = 0.05;
-  EXPECT_EQ(judge_blend_lag(p, {}, {{"cache_view_luminance", v}}).verdict, Verdict::pass);
+  EXPECT_EQ(judge_blend_lag(p, {}, {{"output_luminance", v}}).verdict, Verdict::pass);
 }
 
 gpu::WorldCacheFrameStats stats(std::uint32_t active, std::uint32_t over_age, std::uint32_t oldest) {
@@ -131,7 +134,8 @@ TEST(CacheChecksScenario, ClosedRoom018PassesAndFixedBlendLags) {
   const CheckResult& lag = check(fixed, "blend_lag");
   EXPECT_EQ(lag.verdict, Verdict::fail);
   EXPECT_NE(lag.message.find("frames"), std::string::npos) << lag.message;
-  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 80) << lag.message;
+  // The scenario's limit; measured 104 / 104 frames (0.18: 62 / 78).
+  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 90) << lag.message;
   std::cout << "closed room lag, 0.18: " << check(good, "blend_lag").figures["events"].dump() << "\n"
             << "closed room lag, fixed blend: " << lag.figures["events"].dump() << "\n";
 }
@@ -157,9 +161,78 @@ TEST(CacheChecksScenario, Yard018PassesAndFixedBlendLags) {
                               "yard_fixed");
   const CheckResult& lag = check(fixed, "blend_lag");
   EXPECT_EQ(lag.verdict, Verdict::fail);
-  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 45) << lag.message;
+  // The scenario's limit; 0.18 measured 22 / 27 frames.
+  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 35) << lag.message;
   std::cout << "yard lag, 0.18: " << check(good, "blend_lag").figures["events"].dump() << "\n"
             << "yard lag, fixed blend: " << lag.figures["events"].dump() << "\n";
+}
+
+// The cache view (a cache query at every primary surface, Bevy's debug
+// VISUALIZE_WORLD_CACHE) is off unless the scenario asks for it: then GI's
+// queries alone feed the cache, as in Bevy. Asked for, its queries keep
+// cells alive that no GI ray touches, and the frame record and the timings
+// show it.
+// In the closed room GI's rays reach every surface the camera sees (the same
+// 1434 cells either way); over the open field they do not.
+TEST(CacheView, OffUnlessAskedAndItsQueriesAddCells) {
+  Scenario scenario = load_scenario(test::source_dir() / "scenarios/cache_open_field.json");
+  scenario.checks.erase(std::remove_if(scenario.checks.begin(), scenario.checks.end(),
+                                       [](const CheckSpec& c) { return c.name != "finite"; }),
+                        scenario.checks.end());
+  static test::TempDir dir("cache_view");
+  RunOptions o;
+  o.quiet = true;
+  o.frames = 24;
+  o.sets = {"world_cache.cells=65536"};
+  o.out_dir = dir.path() / "off";
+  const RunResult off = run_scenario(scenario, o);
+  scenario.cache_view = true;
+  o.out_dir = dir.path() / "on";
+  const RunResult on = run_scenario(scenario, o);
+  ASSERT_EQ(off.exit_code, 0);
+  ASSERT_EQ(on.exit_code, 0);
+  const nlohmann::json& last_off = off.summary["frames"].back()["world_cache"];
+  const nlohmann::json& last_on = on.summary["frames"].back()["world_cache"];
+  EXPECT_FALSE(last_off.contains("view_mean_luminance")) << last_off.dump();
+  EXPECT_GT(last_on["view_mean_luminance"].get<double>(), 0.0) << last_on.dump();
+  EXPECT_FALSE(off.summary["timings"]["passes"].contains("world_cache_view")) << off.summary["timings"].dump();
+  EXPECT_TRUE(on.summary["timings"]["passes"].contains("world_cache_view")) << on.summary["timings"].dump();
+  EXPECT_GT(last_off["live_cells"].get<int>(), 0);
+  EXPECT_GT(last_on["live_cells"].get<int>(), last_off["live_cells"].get<int>());
+  std::cout << "live cells at frame 23: GI's queries " << last_off["live_cells"] << ", with the view "
+            << last_on["live_cells"] << "\n";
+}
+
+// The debug signal needs the debug view, and the cache checks need GI (or
+// the view) to fill the cache: clear errors naming the JSON path.
+TEST(CacheView, SignalsAndChecksThatNeedAFedCacheAreRefused) {
+  Scenario scenario = load_scenario(test::source_dir() / "scenarios/cache_light_toggle_closed_room.json");
+  for (CheckSpec& c : scenario.checks)
+    if (c.name == "blend_lag") c.params["signals"] = {"cache_view_luminance"};
+  try {
+    blend_lag_params(*scenario.find_check("blend_lag"), scenario);
+    FAIL() << "cache_view_luminance without the view was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"cache_view\": true"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/signals/0"), std::string::npos) << e.what();
+  }
+  scenario.cache_view = true;
+  EXPECT_NO_THROW(blend_lag_params(*scenario.find_check("blend_lag"), scenario));
+
+  Scenario dark = load_scenario(test::source_dir() / "scenarios/cache_light_toggle_closed_room.json");
+  dark.gi = false;
+  for (CheckSpec& c : dark.checks)
+    if (c.name == "blend_lag") c.params.erase("signals");
+  static test::TempDir dir("cache_view_refused");
+  RunOptions o;
+  o.quiet = true;
+  o.out_dir = dir.path();
+  try {
+    run_scenario(dark, o);
+    FAIL() << "cache_lifetime without GI was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("only GI's queries fill"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CacheChecksScenario, OpenField018Passes) {

@@ -112,6 +112,7 @@ CacheBias cornell_cache_bias(float cell_size_base) {
   gpu::WorldCacheSettings cache = world_cache_settings_from_profile(load_profile("solari-0.18"));
   cache.cells = 1u << 16;
   cache.cell_size_base = cell_size_base;
+  cache.view = true;  // the cache view is what this test reads
   options.world_cache = cache;
   gpu::Renderer renderer(device, compiler, geometry, options);
   renderer.update_scene(flat, std::vector<bool>(scene.instances.size(), true));

@@ -74,6 +74,11 @@ GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   return p.diffuse_color * INV_PI + specular;
 }
 
+// The diffuse lobe alone (Solari's evaluate_diffuse_brdf).
+GI_FN vec3 brdf_eval_diffuse(BrdfParams p, vec3 n, vec3 l) {
+  return dot(n, l) > 0.0f ? p.diffuse_color * INV_PI : vec3(0.0f);
+}
+
 // Probability of sampling the specular lobe; depends on v only, so sampling
 // and pdf evaluation agree. Clamped so neither lobe is starved.
 GI_FN float specular_lobe_probability(BrdfParams p, float NoV) {

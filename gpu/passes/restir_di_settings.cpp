@@ -25,7 +25,9 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
           {"DI_TILE_PER_WORKGROUP", tile_per_workgroup ? "1" : "0"},
           {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
-          {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"}};
+          {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"},
+          {"DI_SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
+          {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"}};
 }
 
 }  // namespace gi::gpu

@@ -43,6 +43,15 @@ struct DiSettings {
   // only the final shading ray tests visibility (README, "DI bias").
   bool initial_visibility_fed_forward = true;
   std::uint32_t chains = 1;               // independent DI chains (2: an honest noise estimate)
+  // specular.di_handover_alpha (Solari 0.18+): at alpha ≤ this DI shades the
+  // diffuse lobe only and specular GI takes the specular lobe, first-hit
+  // emission included. Negative: never (DI shades the full BRDF everywhere).
+  // Set only when specular GI runs: a DI-only run keeps the full BRDF.
+  float specular_handover_alpha = -1.0f;
+  // restir_di.shading "base_over_pi" (0.17): the sample is shaded with
+  // base_color/π whatever the metallic, no specular lobe; false ("brdf"): the
+  // full BRDF (with the handover above).
+  bool shading_base_over_pi = false;
 
   std::vector<ShaderDefine> defines() const;
 };

@@ -36,6 +36,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_REUSE_ROUGHNESS", f(specular_reuse_roughness)},
           {"SPECULAR_POWER_MIS", specular_power_mis ? "1" : "0"},
           {"SPECULAR_PATH_SPREAD", specular_path_spread ? "1" : "0"},
+          {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());

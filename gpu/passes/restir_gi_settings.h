@@ -79,6 +79,10 @@ struct GiSettings {
   // GlossyPathEnd); false ("roughness"): at the first hit rougher than
   // specular_reuse_roughness.
   bool specular_path_spread = true;
+  // specular.di_handover_alpha: at a primary alpha ≤ this the glossy path
+  // counts its first hit's emission (weight 1: DI left the lobe to it).
+  // Negative: never (DI owns the first hit everywhere).
+  float specular_handover_alpha = -1.0f;
   std::uint32_t specular_max_bounces = 3;
   float min_perceptual_roughness = 0.0316f;  // brdf.min_perceptual_roughness (0: no clamp)
   std::uint32_t chains = 1;             // independent chains, as DiSettings::chains

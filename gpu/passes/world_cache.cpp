@@ -118,7 +118,9 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
       pending_(device, std::size_t(pending_capacity_) * sizeof(WorldCachePending), kStorage,
                "world cache pending insertions"),
       stats_(device, sizeof(WorldCacheStats), kStorage, "world cache stats"),
-      view_(device, std::size_t(width) * height * sizeof(glm::vec4), kStorage, "world cache view"),
+      // One texel when the view is off: the binding must still hold a buffer.
+      view_(device, (settings.view ? std::size_t(width) * height : 1u) * sizeof(glm::vec4), kStorage,
+            "world cache view"),
       decay_(make_pass(device, compiler, "world_cache_decay", settings.defines(pending_capacity_))),
       compact_count_(make_pass(device, compiler, "world_cache_compact_count", settings.defines(pending_capacity_))),
       compact_scan_(make_pass(device, compiler, "world_cache_compact_scan", settings.defines(pending_capacity_))),
@@ -128,8 +130,9 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
       pending_args_(make_pass(device, compiler, "world_cache_pending_args", settings.defines(pending_capacity_))),
       commit_(make_pass(device, compiler, "world_cache_commit", settings.defines(pending_capacity_))),
       blend_(make_pass(device, compiler, "world_cache_blend", settings.defines(pending_capacity_))),
-      query_pixels_(make_pass(device, compiler, "world_cache_query_pixels", settings.defines(pending_capacity_))),
       stats_pass_(make_pass(device, compiler, "world_cache_stats", settings.defines(pending_capacity_))) {
+  if (settings.view)
+    query_pixels_.emplace(make_pass(device, compiler, "world_cache_query_pixels", settings.defines(pending_capacity_)));
   for (Buffer* b : {&checksums_, &life_, &radiance_, &delta_, &geometry_, &root_frame_, &claims_, &active_,
                     &active_state_, &new_radiance_, &block_sums_, &counters_, &pending_, &stats_, &view_})
     b->fill_zero();
@@ -156,8 +159,11 @@ void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
       {BINDING_WC_NEW_RADIANCE, &new_radiance_}, {BINDING_WC_BLOCK_SUMS, &block_sums_},
       {BINDING_WC_COUNTERS, &counters_},    {BINDING_WC_PENDING, &pending_},
       {BINDING_WC_STATS, &stats_},          {BINDING_WC_VIEW, &view_}};
-  for (ComputePass* p : {&decay_, &compact_count_, &compact_scan_, &compact_write_, &sample_di_, &sample_gi_,
-                         &pending_args_, &commit_, &blend_, &query_pixels_, &stats_pass_}) {
+  std::vector<ComputePass*> passes = {&decay_,       &compact_count_, &compact_scan_, &compact_write_,
+                                      &sample_di_,   &sample_gi_,     &pending_args_,  &commit_,
+                                      &blend_,       &stats_pass_};
+  if (query_pixels_) passes.push_back(&*query_pixels_);
+  for (ComputePass* p : passes) {
     p->bind_scene(scene);
     for (const auto& [binding, buffer] : table) p->bind_buffer(binding, *buffer);
   }
@@ -171,16 +177,12 @@ constexpr WorldCachePush kCacheToCache{0, 0, 0, 0}, kPixelRooted{1, 0, 0, 0};
 }  // namespace
 
 void WorldCache::record(VkCommandBuffer cmd, GpuTimer& timer) {
-  record_until_query(cmd, timer);
+  record_update(cmd, timer);
+  timer.begin(cmd, "world_cache_commit");
   commit_pixel_queries(cmd);
-  timer.end(cmd);  // world_cache_query, with its commit
+  timer.end(cmd);
   indirect_barrier(cmd);
   record_stats(cmd, timer);
-}
-
-void WorldCache::record_update(VkCommandBuffer cmd, GpuTimer& timer) {
-  record_until_query(cmd, timer);
-  timer.end(cmd);  // world_cache_query, the view's queries only
 }
 
 void WorldCache::record_commit(VkCommandBuffer cmd, GpuTimer& timer) {
@@ -191,9 +193,8 @@ void WorldCache::record_commit(VkCommandBuffer cmd, GpuTimer& timer) {
   record_stats(cmd, timer);
 }
 
-// decay .. blend, then the cache view's pixel-rooted queries, leaving the
-// world_cache_query timer open.
-void WorldCache::record_until_query(VkCommandBuffer cmd, GpuTimer& timer) {
+// decay .. blend, then (settings.view) the cache view's pixel-rooted queries.
+void WorldCache::record_update(VkCommandBuffer cmd, GpuTimer& timer) {
   const std::uint32_t cells = settings_.cells;
   const std::uint32_t blocks = cells / WORLD_CACHE_SCAN_BLOCK;
 
@@ -230,8 +231,10 @@ void WorldCache::record_until_query(VkCommandBuffer cmd, GpuTimer& timer) {
   timer.end(cmd);
   indirect_barrier(cmd);
 
-  timer.begin(cmd, "world_cache_query");
-  query_pixels_.dispatch(cmd, group_count(width_, RAY_WORKGROUP_X), group_count(height_, RAY_WORKGROUP_Y));
+  if (!query_pixels_) return;
+  timer.begin(cmd, "world_cache_view");
+  query_pixels_->dispatch(cmd, group_count(width_, RAY_WORKGROUP_X), group_count(height_, RAY_WORKGROUP_Y));
+  timer.end(cmd);
   indirect_barrier(cmd);
 }
 
@@ -269,6 +272,7 @@ WorldCacheFrameStats WorldCache::stats() const {
 }
 
 Image WorldCache::view() const {
+  if (!settings_.view) throw DeviceError("WorldCache::view: the cache view is off (WorldCacheSettings::view)");
   const auto v = view_.download<glm::vec4>(std::size_t(width_) * height_);
   Image img(width_, height_);
   for (std::size_t i = 0; i < v.size(); ++i) img.pixels[i] = glm::vec3(v[i]);

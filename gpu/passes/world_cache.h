@@ -3,12 +3,14 @@
 // gpu/shaders/world_cache_*.comp:
 //   decay → compact (count, scan, write: the active list and an indirect
 //   dispatch) → sample_di → sample_gi (cache-to-cache queries) → commit →
-//   blend → query_pixels (pixel-rooted: the cache view) → commit → stats.
+//   blend → [query_pixels: the cache view, debug only] → the pixel-rooted
+//   commit (GI's, specular GI's and the view's insertions) → stats.
 // Insertions are deterministic: a query that finds an empty slot claims it
 // with atomicMin of its id and leaves a record; the commit pass writes the
 // lowest id's record (README, "World cache").
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +52,13 @@ struct WorldCacheSettings {
   bool secondary_albedo_base = true;  // brdf.secondary_albedo (GiSettings)
   float glossy_roughness = 0.4f;
   std::uint32_t glossy_bounces = 3;
+  // The cache view (world_cache_query_pixels): a pixel-rooted query at every
+  // primary surface each frame. Bevy makes that query only under the debug
+  // define VISUALIZE_WORLD_CACHE (v0.17.0:realtime/restir_gi.wgsl:85,
+  // v0.18.0:realtime/specular_gi.wgsl:75); its queries keep cells alive and
+  // add cells no GI ray touches, so it is off unless a scenario asks
+  // ("cache_view": true). Otherwise GI's and specular GI's queries alone feed it.
+  bool view = false;
   bool stats = false;       // the per-frame statistics pass (blend_lag, cache_lifetime)
   bool root_frame = false;  // root-frame instrumentation (cache_lifetime): WORLD_CACHE_ROOT_FRAME
   // Pixel-rooted queries per pixel that other passes add to the cache's own
@@ -81,14 +90,14 @@ class WorldCache {
   void bind(const SceneResources& scene, const Buffer& gbuffer);
   // Records every pass with barriers; timed as world_cache_decay,
   // world_cache_compact, world_cache_sample_di, world_cache_sample_gi (with its
-  // commit), world_cache_blend, world_cache_query (with its commit) and
-  // world_cache_stats.
+  // commit), world_cache_blend, world_cache_view (settings.view only),
+  // world_cache_commit and world_cache_stats.
   void record(VkCommandBuffer cmd, GpuTimer& timer);
   // The same frame in two halves, for passes that query the cache in between
   // (ReSTIR GI, specular GI): record_update runs decay .. blend and the cache
-  // view's queries (world_cache_query), record_commit the pixel-rooted commit
-  // (world_cache_commit: the view's and the other passes' insertions, lowest
-  // query id per slot) and the statistics. Queries in between read this
+  // view's queries, record_commit the pixel-rooted commit (the view's and the
+  // other passes' insertions, lowest query id per slot) and the statistics.
+  // Queries in between read this
   // frame's blended radiance and must use the pixel-rooted list (1) with ids
   // from width·height up (the view's are the pixel indices).
   void record_update(VkCommandBuffer cmd, GpuTimer& timer);
@@ -99,7 +108,7 @@ class WorldCache {
   std::vector<ShaderDefine> shader_defines() const { return settings_.defines(pending_capacity_); }
 
   WorldCacheFrameStats stats() const;
-  Image view() const;  // irradiance at each pixel's primary surface, from the cache
+  Image view() const;  // irradiance at each pixel's primary surface, from the cache (settings.view)
   // Persistent buffers: checksums, life, radiance, luminance delta, geometry, root frame.
   void list_state(StateList& out);
   const WorldCacheSettings& settings() const { return settings_; }
@@ -113,7 +122,6 @@ class WorldCache {
   }
 
  private:
-  void record_until_query(VkCommandBuffer cmd, GpuTimer& timer);
   void commit_pixel_queries(VkCommandBuffer cmd);
   void record_stats(VkCommandBuffer cmd, GpuTimer& timer);
 
@@ -123,7 +131,8 @@ class WorldCache {
   Buffer checksums_, life_, radiance_, delta_, geometry_, root_frame_;
   Buffer claims_, active_, active_state_, new_radiance_, block_sums_, counters_, pending_, stats_, view_;
   ComputePass decay_, compact_count_, compact_scan_, compact_write_, sample_di_, sample_gi_, pending_args_,
-      commit_, blend_, query_pixels_, stats_pass_;
+      commit_, blend_, stats_pass_;
+  std::optional<ComputePass> query_pixels_;  // settings.view only
 };
 
 }  // namespace gi::gpu

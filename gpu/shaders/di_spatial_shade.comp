@@ -13,7 +13,10 @@
 // and the merge uses defensive balance MIS.
 //
 // Output: emitted radiance of the surface + the reservoir's sample shaded with
-// the full BRDF (core/shared/direct_integrator.h defines "DI" the same way);
+// the full BRDF (core/shared/direct_integrator.h defines "DI" the same way),
+// or its diffuse lobe alone at alpha ≤ DI_SPECULAR_HANDOVER_ALPHA, where
+// specular GI takes the specular lobe (Solari 0.18+; negative: never); or
+// with DI_SHADING_BASE_OVER_PI (0.17) base_color/π, metallic ignored;
 // escaped camera rays see the directional lights' discs.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -103,7 +106,14 @@ void main() {
         BrdfParams brdf = brdf_params(d.g.base_color_metallic.rgb, d.g.base_color_metallic.a, d.g.emissive_roughness.a,
                                       d.g.motion_reflectance.w);
         // received_radiance carries cos(receiver)·cos(light)/d²; brdf_eval is the BRDF alone.
-        color += brdf_eval(brdf, d.ns, d.view, c.wi) * c.received_radiance * canonical.unbiased_contribution_weight;
+        // At alpha ≤ DI_SPECULAR_HANDOVER_ALPHA the specular lobe is specular GI's.
+#if DI_SHADING_BASE_OVER_PI != 0
+        vec3 f = dot(d.ns, c.wi) > 0.0 ? d.g.base_color_metallic.rgb * INV_PI : vec3(0.0);
+#else
+        vec3 f = brdf.alpha <= float(DI_SPECULAR_HANDOVER_ALPHA) ? brdf_eval_diffuse(brdf, d.ns, c.wi)
+                                                                  : brdf_eval(brdf, d.ns, d.view, c.wi);
+#endif
+        color += f * c.received_radiance * canonical.unbiased_contribution_weight;
       }
     }
   }

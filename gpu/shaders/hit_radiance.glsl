@@ -103,6 +103,9 @@ vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuery q, i
 struct GlossyPathEnd {
   float spread_a0;
   float first_pdf;  // solid-angle pdf of the primary direction (≥ 1e30: a mirror)
+  // 1: count the first hit's emission with weight 1 (DI handed this surface's
+  // specular lobe over, specular.di_handover_alpha); 0: DI owns it.
+  float first_emission;
 };
 
 // The path from a hit onwards (trace_glossy_path of seeds/solari-0.18.md, from
@@ -121,6 +124,7 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd path_en
   for (uint vertex = 0u;; ++vertex) {
     SurfacePoint s = surface_at_hit(hit);
     bool front = dot(dir, s.geometric_normal) < 0.0;
+    if (vertex == 0u && front) radiance += path_end.first_emission * s.emissive;
     if (vertex > 0u && front && max3(s.emissive) > 0.0) {
       float w = previous_pdf > 0.0
                     ? hit_mis(previous_pdf, emissive_hit_light_pdf(s, hit.instance, dir, hit.t))
@@ -184,7 +188,7 @@ vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd path_en
 // glossy metal is not lost.
 vec3 secondary_hit_radiance(Hit hit, SurfacePoint s, vec3 ng, vec3 ns, vec3 dir, CacheQuery q, inout uint rng) {
 #if HIT_SURFACES_FULL != 0
-  return glossy_path_radiance(hit, dir, q, GlossyPathEnd(-1.0, 0.0), rng);
+  return glossy_path_radiance(hit, dir, q, GlossyPathEnd(-1.0, 0.0, 0.0), rng);
 #else
   return end_path_radiance(s, ng, ns, -dir, q, rng);
 #endif

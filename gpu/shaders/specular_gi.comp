@@ -4,7 +4,9 @@
 //   (its direction and radiance · W) with the specular BRDF.
 // - else sample GGX with bounded VNDF (the mirror special case at alpha ≤
 //   0.001) and trace_glossy_path: up to SPECULAR_MAX_BOUNCES bounces;
-//   emissive hits count from the second vertex on (DI owns the first), NEE
+//   emissive hits count from the second vertex on (DI owns the first; at
+//   alpha ≤ SPECULAR_HANDOVER_ALPHA DI shades only its diffuse lobe and the
+//   first hit's emission counts here with weight 1, as Solari 0.18+), NEE
 //   at non-mirror vertices, MIS between the two by the power heuristic
 //   (SPECULAR_POWER_MIS, Solari's) or the balance heuristic; the path ends in
 //   end_path_radiance (GI_HIT_RADIANCE 2: the world cache, pixel-rooted, as
@@ -53,7 +55,9 @@ void main() {
       }
     } else if (max3(f0) > 0.0) {
       vec3 wi = to_world(sample_ggx_bounded_vndf(from_world(d.view, d.ns), alpha, rng_next_vec2(rng)), d.ns);
-      GlossyPathEnd path_end = GlossyPathEnd(-1.0, 0.0);
+      // DI left this surface's specular lobe, first hit's emission included, to us.
+      float first_emission = alpha <= float(SPECULAR_HANDOVER_ALPHA) ? 1.0 : 0.0;
+      GlossyPathEnd path_end = GlossyPathEnd(-1.0, 0.0, first_emission);
 #if SPECULAR_PATH_SPREAD != 0 && GI_HIT_RADIANCE == 2
       vec3 to_camera = frame.camera.position.xyz - d.position;
       path_end.spread_a0 = 0.03 * dot(to_camera, to_camera) / (4.0 * PI * max(dot(d.view, d.ns), 1e-6));

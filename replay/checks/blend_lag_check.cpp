@@ -31,17 +31,27 @@ BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario)
   count("lag_limit", 0, p.lag_limit);
   count("steady_frames", 1, p.steady_frames);
   if (j.contains("signals")) {
-    const std::vector<std::string> known = {"cache_view_luminance", "cache_mean_radiance"};
     const nlohmann::json& s = j["signals"];
     const std::string path = spec.json_path + "/signals";
     if (!s.is_array() || s.empty()) throw InputError(file, path, "expected a non-empty array of signal names");
     p.signals.clear();
     for (std::size_t i = 0; i < s.size(); ++i) {
+      const auto& known = kBlendLagSignals;
       if (!s[i].is_string() || std::find(known.begin(), known.end(), s[i].get<std::string>()) == known.end())
         throw InputError(file, path + "/" + std::to_string(i),
-                         "expected \"cache_view_luminance\" or \"cache_mean_radiance\"");
+                         "expected one of \"output_luminance\", \"gi_luminance\", \"cache_mean_radiance\", "
+                         "\"cache_view_luminance\"");
       p.signals.push_back(s[i].get<std::string>());
     }
+  }
+  // What each signal needs: GI feeds the cache (without the debug view nothing else does).
+  for (std::size_t i = 0; i < p.signals.size(); ++i) {
+    const std::string path = spec.json_path + (j.contains("signals") ? "/signals/" + std::to_string(i) : "/name");
+    const std::string& name = p.signals[i];
+    if (name == "cache_view_luminance" && !scenario.cache_view)
+      throw InputError(file, path, "\"cache_view_luminance\" reads the debug cache view: set \"cache_view\": true");
+    if ((name == "gi_luminance" || name == "cache_mean_radiance") && !scenario.gi)
+      throw InputError(file, path, fmt::format("\"{}\" needs ReSTIR GI: set \"gi\": true", name));
   }
   return p;
 }

@@ -1,7 +1,11 @@
 // The blend_lag check (DESIGN §6): how fast the world cache follows a lighting
-// change, and how still it holds when nothing changes. Two per-frame signals:
-// the mean luminance of the cache view (irradiance the cache gives the
-// pixels' surfaces) and the mean cache radiance (over sampled cells).
+// change, and how still it holds when nothing changes, judged on signals Bevy
+// computes: the mean luminance of the output (DI + GI + specular) and of GI,
+// and the mean irradiance of the cells sampled this frame (those GI's queries
+// keep alive). The cache view's mean luminance (irradiance at every primary
+// surface) is a debug signal: it needs the view ("cache_view": true), whose
+// queries Bevy makes only under VISUALIZE_WORLD_CACHE and which keep cells
+// alive that GI alone would let die.
 //
 // The scenario's lighting events (light_on/off/intensity/colour) cut the run
 // into windows. In each window after an event, the new steady state is the
@@ -25,9 +29,12 @@ struct BlendLagParams {
   double delta = 0.02;              // frame-to-frame variation in static windows, relative to the level
   std::uint32_t lag_limit = 10;     // frames
   std::uint32_t steady_frames = 8;  // frames averaged for a steady state
-  // The signals judged (both are recorded per frame either way).
-  std::vector<std::string> signals = {"cache_view_luminance", "cache_mean_radiance"};
+  // The signals judged (every available one is recorded per frame either way).
+  std::vector<std::string> signals = {"output_luminance"};
 };
+
+inline const std::vector<std::string> kBlendLagSignals = {"output_luminance", "gi_luminance", "cache_mean_radiance",
+                                                          "cache_view_luminance"};
 
 // Defaults, then the check's params; InputError naming the JSON path.
 BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario);
@@ -36,7 +43,7 @@ BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario)
 std::vector<std::uint32_t> lighting_event_frames(const Scenario& scenario);
 
 struct BlendLagSignal {
-  std::string name;            // "cache_view_luminance", "cache_mean_radiance"
+  std::string name;            // one of kBlendLagSignals
   std::vector<double> values;  // one per frame from 0
 };
 
