@@ -10,6 +10,7 @@
 //   restir_di.mis_visibility       removes 0.18's DI darkening with the initial ray kept
 //                                  (and its defensive weights sum to one);
 //   restir_di.initial_samples      8 in 0.18, 32 in 0.17;
+//   restir_di.shading              0.17's base/π ignores metallic and roughness;
 // and the new paths are bit-identical across runs and lavapipe thread counts.
 #include <gtest/gtest.h>
 
@@ -156,6 +157,35 @@ TEST(DiFidelity, PureMetalReceivesDiUnderBevysTargetAndNoneUnderTheOldOne) {
   // base · (1 − metallic) / PI = 0: no candidate has weight, no DI at all.
   EXPECT_EQ(lit_old, 0.0) << "mean DI luminance " << mean_old;
   EXPECT_EQ(mean_old, 0.0);
+}
+
+// Solari 0.17 shades DI with base_color / PI (v0.17.0 realtime/restir_di.wgsl:
+// 78, 88-90) and resamples with the same (the target): metallic and
+// roughness never enter its DI, so the Cornell box turned rough metal renders
+// bit for bit as the Lambert box. 0.18's BRDF shading sees the metal
+// (measured: mean DI 0.108 against 0.117). On the Lambert box (reflectance 0,
+// so no specular lobe) the two shadings agree to the bit.
+TEST(DiFidelity, SeventeenShadesWithBaseOverPiSoMetalsLookLambert) {
+  nlohmann::json metal = nlohmann::json::array();
+  for (const char* m : {"white", "red", "green", "short_block", "tall_block"})
+    metal.push_back({{"type", "material"}, {"frame", 0}, {"material", m}, {"metallic", 1.0},
+                     {"perceptual_roughness", 0.6}});
+  test::TempDir dir("di_fidelity_shading");
+  fs::create_directories(dir.path() / "lambert");
+  fs::create_directories(dir.path() / "metal");
+  const fs::path lambert_file = write_scenario(dir.path() / "lambert", 6, nlohmann::json::array());
+  const fs::path metal_file = write_scenario(dir.path() / "metal", 6, metal);
+  auto image_hash = [&](const fs::path& scenario, const std::string& shading, const std::string& tag) {
+    const fs::path out = dir.path() / tag;
+    const test::CommandResult r = test::run_giharness("run " + scenario.string() + " --set restir_di.shading=" +
+                                                      shading + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return test::read_json(out / "summary.json").at("final_image_hash").get<std::string>();
+  };
+  const std::string lambert_pi = image_hash(lambert_file, "base_over_pi", "lambert_pi");
+  EXPECT_EQ(lambert_pi, image_hash(lambert_file, "brdf", "lambert_brdf"));
+  EXPECT_EQ(lambert_pi, image_hash(metal_file, "base_over_pi", "metal_pi"));
+  EXPECT_NE(lambert_pi, image_hash(metal_file, "brdf", "metal_brdf"));
 }
 
 // Which tiles each pixel's initial sample can have come from (frame f's
