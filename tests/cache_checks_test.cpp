@@ -235,6 +235,24 @@ TEST(CacheView, SignalsAndChecksThatNeedAFedCacheAreRefused) {
   }
 }
 
+// The expected failure (a finding about 0.18's adaptive blend with few
+// cells), run as the nightly would with its own 2^20-cell table: blend_lag
+// must fail on it, cache_lifetime pass. Measured 59 / 107 frames, 5.6 %.
+TEST(CacheChecksScenario, OpenCornellBoxExpectedFailureFailsBlendLag) {
+  static test::TempDir dir("cache_cornell_noise");
+  RunOptions o;
+  o.quiet = true;
+  o.out_dir = dir.path();
+  const RunResult r = run_scenario(
+      load_scenario(test::source_dir() / "scenarios/expected_failures/cache_light_toggle_cornell_0_18_noise.json"), o);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(check(r, "cache_lifetime").verdict, Verdict::pass) << check(r, "cache_lifetime").message;
+  const CheckResult& lag = check(r, "blend_lag");
+  EXPECT_EQ(lag.verdict, Verdict::fail);
+  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 80) << lag.message;
+  std::cout << "open Cornell box, 0.18: " << lag.message << "\n";
+}
+
 TEST(CacheChecksScenario, OpenField018Passes) {
   const RunResult r = run("cache_open_field.json", {}, "field_018");
   EXPECT_EQ(check(r, "cache_lifetime").verdict, Verdict::pass) << check(r, "cache_lifetime").message;

@@ -43,7 +43,10 @@ TEST(DeviceFault, NightlyKeepsAValidReportAndMarksTheScenario) {
   const test::CommandResult resumed = test::run_giharness(
       "nightly --suite " + (test::source_dir() / "tests/data/suites/tiny").string() + " --out " + out.string() +
       " --baseline " + (dir.path() / "none").string() + " --resume");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;  // the tiny suite passes
   const nlohmann::json done = test::read_json(out / "summary.json");
+  EXPECT_FALSE(done.value("interrupted", false));
+  ASSERT_EQ(done["scenarios"].size(), 3u) << done.dump(1);  // every scenario of tests/data/suites/tiny
   for (const nlohmann::json& row : done["scenarios"]) EXPECT_EQ(row["status"], "complete");
 }
 

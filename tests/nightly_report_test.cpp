@@ -183,7 +183,7 @@ TEST(Nightly, ShardsMergedGiveTheUnshardedVerdicts) {
   test::TempDir dir("nightly-shards");
   const std::string suite = " --suite " + tiny_suite().string() + " --baseline " + (dir.path() / "none").string();
   const test::CommandResult all = test::run_giharness("nightly" + suite + " --out " + (dir.path() / "all").string());
-  ASSERT_NE(all.exit_code, -1) << all.output;
+  ASSERT_EQ(all.exit_code, 0) << all.output;  // the tiny suite passes, no baseline to regress from
   const test::CommandResult s1 = test::run_giharness("nightly" + suite + " --shard 1/2 --out " + (dir.path() / "s1").string());
   const test::CommandResult s2 = test::run_giharness("nightly" + suite + " --shard 2/2 --out " + (dir.path() / "s2").string());
   EXPECT_EQ(test::read_json(dir.path() / "s1/summary.json")["scenarios"].size(), 2u);
