@@ -59,6 +59,16 @@ TEST(BlendLagJudge, NotSettledWithinTheWindowFails) {
   EXPECT_NE(r.message.find("not settled within 20 frames"), std::string::npos) << r.message;
 }
 
+// A run too short for the check (a --frames below the events and lag_limit)
+// judges nothing: inconclusive, not a pass.
+TEST(BlendLagJudge, NothingJudgedIsInconclusive) {
+  BlendLagParams p;
+  p.lag_limit = 90;
+  const CheckResult r = judge_blend_lag(p, {60}, {{"output_luminance", std::vector<double>(40, 1.0)}});
+  EXPECT_EQ(r.verdict, Verdict::inconclusive) << r.message;
+  EXPECT_NE(r.message.find("judged nothing"), std::string::npos) << r.message;
+}
+
 TEST(BlendLagJudge, NoisyStaticWindowFails) {
   BlendLagParams p;
   std::vector<double> v(60, 100.0);

@@ -88,6 +88,7 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
   };
   std::uint32_t max_lag = 0;
   double max_variation = 0.0;
+  std::size_t judged = 0;  // events measured and frames held to δ
   nlohmann::json events = nlohmann::json::array();
   const std::size_t n = signals.empty() ? 0 : signals[0].values.size();
   const std::uint32_t K = params.steady_frames;
@@ -125,6 +126,7 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
         const bool never = settled > end - K;
         const std::uint32_t lag = never ? std::uint32_t(end - begin) : std::uint32_t(settled - begin);
         max_lag = std::max(max_lag, lag);
+        ++judged;
         events.push_back({{"frame", begin}, {"signal", sig.name}, {"lag_frames", lag}, {"settled", !never},
                           {"level_before", level_old}, {"level_after", level_new}});
         if (never || lag > params.lag_limit) {
@@ -141,6 +143,7 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
       for (std::size_t t = begin + params.lag_limit + 1; t < end; ++t) {
         const double v = std::abs(s[t] - s[t - 1]);
         const double relative = level > 0.0 ? v / level : (v > 0.0 ? INFINITY : 0.0);
+        ++judged;
         max_variation = std::max(max_variation, relative);
         if (v > allowed) {
           failures.push_back(fmt::format("{}: frame-to-frame change {:.3g} ({:.2f}% of the level) at frame {} > δ = "
@@ -155,7 +158,14 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
   c.figures = {{"max_lag_frames", max_lag}, {"max_static_variation", max_variation}, {"events", events}};
   c.first_failing_frame = first;
   c.verdict = failures.empty() ? Verdict::pass : Verdict::fail;
-  if (failures.empty())
+  if (failures.empty() && judged == 0) {
+    // No lighting event inside the run and no frame past lag_limit: nothing
+    // was measured (a short --frames run), which is not a pass.
+    c.verdict = Verdict::inconclusive;
+    c.message = fmt::format("judged nothing: no lighting event inside the run and no frame more than {} frames "
+                            "into a window",
+                            params.lag_limit);
+  } else if (failures.empty())
     c.message = fmt::format("settled within {} frames of every lighting event (limit {}); static variation ≤ {:.2f}%",
                             max_lag, params.lag_limit, 100.0 * max_variation);
   else
