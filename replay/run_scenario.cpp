@@ -95,10 +95,24 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   for (const std::string& w : initial.warnings) spdlog::warn("{}: {}", scenario.name, w);
   Scene scene = initial;
 
-  std::set<std::uint32_t> captures(scenario.capture.begin(), scenario.capture.end());
-  captures.insert(options.capture.begin(), options.capture.end());
-  for (std::uint32_t f : captures)
-    if (f >= frames) throw InputError(scenario.file.string(), "/capture", fmt::format("frames below {}", frames));
+  // The scenario's own captures past a shortened run (--frames) are skipped
+  // with a note (schema.json: "frames past the run are never reached"); a
+  // --capture past it is a mistake on the command line.
+  std::set<std::uint32_t> captures;
+  nlohmann::json skipped_captures = nlohmann::json::array();
+  for (std::uint32_t f : scenario.capture) {
+    if (f < frames) {
+      captures.insert(f);
+      continue;
+    }
+    skipped_captures.push_back(f);
+    spdlog::warn("{}: capture at frame {} skipped: the run has {} frames (--frames)", scenario.name, f, frames);
+  }
+  for (std::uint32_t f : options.capture) {
+    if (f >= frames)
+      throw InputError("--capture", "", fmt::format("frame {} is past the run's last frame {}", f, frames - 1));
+    captures.insert(f);
+  }
   std::optional<DeterminismParams> determinism;
   if (const CheckSpec* spec = scenario.find_check("determinism")) {
     determinism = determinism_params(*spec, scenario, frames);
@@ -570,6 +584,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                                {"root_frame", hash(cache.root_frames())}};
   }
   s["captures"] = capture_files;
+  if (!skipped_captures.empty()) s["skipped_captures"] = skipped_captures;
   s["failure_captures"] = failure_captures;
   if (hash_log) s["hash_log"] = "buffer_hashes.jsonl";
   if (!options.resume_from.empty())

@@ -76,6 +76,32 @@ TEST(Cli, RunWritesSummaryWithDeviceAndPassTimings) {
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "out/captures/frame_00007/images.exr"));
 }
 
+// --frames below the scenario's own capture frames: those captures are
+// skipped with a note (summary.json skipped_captures), the run goes on; a
+// --capture past the run is a command-line mistake (exit 2, naming it).
+TEST(Cli, ShortRunSkipsTheScenariosLaterCapturesAndRefusesALateCaptureOption) {
+  test::TempDir dir("short_captures");
+  const std::filesystem::path file = dir.path() / "captured.json";
+  std::ofstream(file) << R"({"name": "captured", "scene": {"generator": "cornell_box"},
+    "resolution": [32, 24], "frames": 12, "seed": 3, "mode": "reference", "capture": [2, 10],
+    "checks": [{"name": "finite"}]})";
+  const test::CommandResult r =
+      test::run_giharness("run " + file.string() + " --frames 5 --out " + (dir.path() / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("capture at frame 10 skipped"), std::string::npos) << r.output;
+  const nlohmann::json s = test::read_json(dir.path() / "out/summary.json");
+  EXPECT_EQ(s["skipped_captures"], nlohmann::json::array({10}));
+  EXPECT_EQ(s["captures"].size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out/captures/frame_00002/images.exr"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out/captures/frame_00010"));
+
+  const test::CommandResult late = test::run_giharness("run " + file.string() + " --frames 5 --capture 7 --out " +
+                                                       (dir.path() / "late").string());
+  EXPECT_EQ(late.exit_code, 2) << late.output;
+  EXPECT_NE(late.output.find("--capture"), std::string::npos) << late.output;
+  EXPECT_NE(late.output.find("frame 7 is past the run's last frame 4"), std::string::npos) << late.output;
+}
+
 // Same scenario, seed and device: the same bits, also with one lavapipe thread.
 TEST(Cli, RunsAreBitIdenticalAcrossRunsAndThreadCounts) {
   test::TempDir dir("determinism");
