@@ -59,7 +59,7 @@ const ScenarioKeys& scenario_keys() {
         {"light_color", {"type", "frame", "frames", "light", "color"}},
         {"camera_keyframes", {"type", "keys"}},
         {"camera_sweep", {"type", "frames", "from", "to", "ease"}},
-        {"spawn", {"type", "frame", "instance", "of", "mesh", "translation", "rotation_degrees", "scale"}},
+        {"spawn", {"type", "frame", "instance", "of", "mesh", "translation", "rotation_degrees", "scale", "repeat"}},
         {"despawn", {"type", "frame", "instance"}},
         {"transform", {"type", "frame", "frames", "instance", "translation", "rotation_degrees", "scale"}},
         {"material",
@@ -69,6 +69,7 @@ const ScenarioKeys& scenario_keys() {
     k.camera_key_keys = {"frame", "position", "target", "fov_y_degrees"};
     k.camera_pose_keys = {"position", "target", "fov_y_degrees"};
     k.mesh_generator_keys = {"generator", "params"};
+    k.spawn_repeat_keys = {"count", "frame_step", "first_number", "columns", "first_cell", "step", "row_step"};
     k.check_names = {"reference", "finite", "determinism", "cache_lifetime", "blend_lag", "jacobian", "cluster_ids"};
     k.check_keys = {
         {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp", "warmup_frames"}},
@@ -239,6 +240,29 @@ glm::vec3 parse_scale(const Reader& r, const json& j, const std::string& path) {
   r.fail(path, fmt::format("expected a number in [{}, {}] or an array of 3 such numbers, {}", kMinScale, kMaxScale, got(j)));
 }
 
+// A spawn with "repeat" as the plain spawns it stands for (SpawnRepeat).
+std::vector<Event> expand_spawn_repeat(const Event& e) {
+  const SpawnRepeat& rep = *e.repeat;
+  const std::size_t hash_begin = e.instance.find('#');
+  std::size_t hash_end = hash_begin;
+  while (hash_end < e.instance.size() && e.instance[hash_end] == '#') ++hash_end;
+  const int width = int(hash_end - hash_begin);
+  const std::uint32_t columns = rep.columns ? rep.columns : 0xffffffffu;
+  std::vector<Event> out;
+  out.reserve(rep.count);
+  for (std::uint32_t i = 0; i < rep.count; ++i) {
+    Event one = e;
+    one.repeat.reset();
+    one.first = one.last = e.first + i * rep.frame_step;
+    one.instance = e.instance.substr(0, hash_begin) + fmt::format("{:0{}}", rep.first_number + i, width) +
+                   e.instance.substr(hash_end);
+    const std::uint64_t k = std::uint64_t(rep.first_cell) + i;
+    one.translation = e.translation + float(k % columns) * rep.step + float(k / columns) * rep.row_step;
+    out.push_back(std::move(one));
+  }
+  return out;
+}
+
 Event parse_event(const Reader& r, const json& j, std::size_t index) {
   const ScenarioKeys& K = scenario_keys();
   const std::string path = Reader::at("/events", index);
@@ -346,6 +370,24 @@ Event parse_event(const Reader& r, const json& j, std::size_t index) {
       if (j.contains("translation")) e.translation = r.vec3(j["translation"], path + "/translation", -kMaxCoordinate, kMaxCoordinate);
       if (j.contains("rotation_degrees")) e.rotation_degrees = r.vec3(j["rotation_degrees"], path + "/rotation_degrees", -kMaxDegrees, kMaxDegrees);
       if (j.contains("scale")) e.scale3 = parse_scale(r, j["scale"], path + "/scale");
+      if (j.contains("repeat")) {
+        const std::string rp = path + "/repeat";
+        r.object(j["repeat"], rp, K.spawn_repeat_keys, {"count"});
+        const json& rj = j["repeat"];
+        SpawnRepeat rep;
+        rep.count = r.uint(rj["count"], rp + "/count", 1, kMaxSpawnRepeat);
+        if (rj.contains("frame_step")) rep.frame_step = r.uint(rj["frame_step"], rp + "/frame_step", 0, kMaxFrames);
+        if (rj.contains("first_number")) rep.first_number = r.uint(rj["first_number"], rp + "/first_number", 0, 1u << 30);
+        if (rj.contains("columns")) rep.columns = r.uint(rj["columns"], rp + "/columns", 1, kMaxSpawnRepeat);
+        if (rj.contains("first_cell")) rep.first_cell = r.uint(rj["first_cell"], rp + "/first_cell", 0, 1u << 30);
+        if (rj.contains("step")) rep.step = r.vec3(rj["step"], rp + "/step", -kMaxCoordinate, kMaxCoordinate);
+        if (rj.contains("row_step")) rep.row_step = r.vec3(rj["row_step"], rp + "/row_step", -kMaxCoordinate, kMaxCoordinate);
+        if (std::uint64_t(e.first) + std::uint64_t(rep.frame_step) * (rep.count - 1) >= kMaxFrames)
+          r.fail(rp + "/frame_step", fmt::format("the last spawn's frame must stay below {}", kMaxFrames));
+        if (e.instance.find('#') == std::string::npos)
+          r.fail(path + "/instance", "a repeated spawn's name needs a run of '#' for its number, e.g. \"cliff_####\"");
+        e.repeat = rep;
+      }
       break;
     case EventType::Despawn: e.instance = name("instance"); break;
     case EventType::Material:
@@ -471,7 +513,14 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
 
   if (doc.contains("events")) {
     const json& ev = r.array(doc["events"], "/events");
-    for (std::size_t i = 0; i < ev.size(); ++i) s.events.push_back(parse_event(r, ev[i], i));
+    for (std::size_t i = 0; i < ev.size(); ++i) {
+      Event e = parse_event(r, ev[i], i);
+      if (!e.repeat) {
+        s.events.push_back(std::move(e));
+        continue;
+      }
+      for (Event& one : expand_spawn_repeat(e)) s.events.push_back(std::move(one));
+    }
   }
   if (doc.contains("checks")) {
     const json& ch = r.array(doc["checks"], "/checks");

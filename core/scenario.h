@@ -59,6 +59,21 @@ struct MeshGeneratorSpec {
   nlohmann::json params = nlohmann::json::object();
 };
 
+// spawn "repeat": one event in the file stands for `count` spawns, the i-th
+// at frame + i·frame_step, named by the instance's run of '#' replaced with
+// first_number + i (zero-padded to the run's length), translated by
+// col·step + row·row_step with cell k = first_cell + i, col = k mod columns,
+// row = k div columns. The parser expands it into plain spawn events.
+struct SpawnRepeat {
+  std::uint32_t count = 1;
+  std::uint32_t frame_step = 1;
+  std::uint32_t first_number = 1;
+  std::uint32_t columns = 0;  // 0: one row
+  std::uint32_t first_cell = 0;
+  glm::vec3 step{0.0f};
+  glm::vec3 row_step{0.0f};
+};
+
 struct Event {
   EventType type = EventType::LightOn;
   std::size_t index = 0;     // position in the file's "events" array
@@ -83,6 +98,7 @@ struct Event {
   glm::vec3 translation{0.0f};
   glm::vec3 rotation_degrees{0.0f};   // xyz Euler: R = Rz·Ry·Rx
   glm::vec3 scale3{1.0f};             // "scale": s or [sx, sy, sz]
+  std::optional<SpawnRepeat> repeat;  // spawn, as written (expanded events carry none)
   // material
   std::string material;
   std::optional<glm::vec3> base_color;
@@ -155,6 +171,7 @@ struct ScenarioKeys {
   std::vector<std::string> camera_key_keys;     // camera_keyframes "keys" items
   std::vector<std::string> camera_pose_keys;    // camera_sweep "from"/"to"
   std::vector<std::string> mesh_generator_keys; // spawn "mesh"
+  std::vector<std::string> spawn_repeat_keys;   // spawn "repeat"
   std::vector<std::string> check_names;
   // Params of each check with a fixed parameter set ("name" included); checks
   // not listed here accept any parameters (their code validates them).
@@ -168,6 +185,7 @@ const ScenarioKeys& scenario_keys();
 inline constexpr std::uint32_t kMaxResolution = 8192;
 inline constexpr std::uint32_t kMaxFrames = 10'000'000;
 inline constexpr std::uint32_t kMaxSamplesPerFrame = 1024;
+inline constexpr std::uint32_t kMaxSpawnRepeat = 100'000;
 
 // JSON Pointer escaping of one reference token ("~" → "~0", "/" → "~1").
 std::string json_pointer_token(const std::string& key);

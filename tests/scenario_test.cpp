@@ -228,9 +228,53 @@ TEST(Scenario, DefaultsAndRawKept) {
   EXPECT_EQ(s.raw, doc);
 }
 
+// A repeated spawn is expanded into plain spawns: frames, zero-padded names
+// and grid translations as SpawnRepeat says; a name without '#' is refused.
+TEST(Scenario, RepeatedSpawnExpandsIntoNumberedSpawnsOnAGrid) {
+  json doc = {{"name", "grid"},
+              {"scene", {{"generator", "cliff"}, {"params", {{"triangles", 12}}}}},
+              {"resolution", {8, 8}},
+              {"frames", 20},
+              {"events", json::array({json{{"type", "spawn"},
+                                           {"frame", 2},
+                                           {"instance", "c_###"},
+                                           {"of", "cliff"},
+                                           {"translation", {1.0, 0.0, 0.0}},
+                                           {"repeat",
+                                            {{"count", 5},
+                                             {"frame_step", 3},
+                                             {"first_number", 8},
+                                             {"columns", 2},
+                                             {"first_cell", 1},
+                                             {"step", {10.0, 0.0, 0.0}},
+                                             {"row_step", {0.0, 0.0, -5.0}}}}}})},
+              {"checks", json::array({json{{"name", "finite"}}})}};
+  const gi::Scenario s = gi::parse_scenario(doc, "grid.json");
+  ASSERT_EQ(s.events.size(), 5u);
+  const std::vector<std::string> names = {"c_008", "c_009", "c_010", "c_011", "c_012"};
+  // cells 1..5 in rows of 2: (1,0) (0,1) (1,1) (0,2) (1,2)
+  const std::vector<glm::vec3> at = {{11, 0, 0}, {1, 0, -5}, {11, 0, -5}, {1, 0, -10}, {11, 0, -10}};
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(s.events[i].type, gi::EventType::Spawn);
+    EXPECT_EQ(s.events[i].first, 2u + 3u * i);
+    EXPECT_EQ(s.events[i].instance, names[i]);
+    EXPECT_EQ(s.events[i].translation, at[i]) << i;
+    EXPECT_EQ(s.events[i].of, "cliff");
+    EXPECT_FALSE(s.events[i].repeat.has_value());
+  }
+  doc["events"][0]["instance"] = "c";
+  try {
+    gi::parse_scenario(doc, "grid.json");
+    FAIL() << "a repeated spawn without '#' was accepted";
+  } catch (const gi::InputError& e) {
+    EXPECT_EQ(e.json_path(), "/events/0/instance");
+  }
+}
+
 TEST(Scenario, AllEventsScenarioParsesAndBuilds) {
   gi::Scenario s = gi::load_scenario(kGood / "all_events.json");
-  ASSERT_EQ(s.events.size(), 10u);
+  ASSERT_EQ(s.events.size(), 13u);  // the last, a repeated spawn, stands for 3
+  EXPECT_EQ(s.events[12].instance, "row_03");
   EXPECT_EQ(s.events[0].type, gi::EventType::CameraKeyframes);
   EXPECT_EQ(s.events[4].first, 10u);
   EXPECT_EQ(s.events[4].last, 20u);
@@ -260,6 +304,7 @@ TEST(ScenarioSchema, KeysAndEnumsMatchTheParser) {
   EXPECT_EQ(as_set(keys_of(D["camera_key"]["properties"])), as_set(K.camera_key_keys));
   EXPECT_EQ(as_set(keys_of(D["camera_pose"]["properties"])), as_set(K.camera_pose_keys));
   EXPECT_EQ(as_set(keys_of(D["mesh_generator"]["properties"])), as_set(K.mesh_generator_keys));
+  EXPECT_EQ(as_set(keys_of(D["event_spawn"]["properties"]["repeat"]["properties"])), as_set(K.spawn_repeat_keys));
   EXPECT_EQ(as_set(keys_of(D["cornell_box_params"]["properties"])), as_set(K.cornell_box_params));
   EXPECT_EQ(as_set(keys_of(D["cliff_params"]["properties"])), as_set(K.cliff_params));
   EXPECT_EQ(as_set(S["properties"]["mode"]["enum"]), as_set(K.modes));
