@@ -1,8 +1,10 @@
 // NumPy .npy files (format version 1.0, read also 2.0), so that a capture's
 // buffers open with `numpy.load` (DESIGN §9). Little-endian, C order only;
 // the element type is a numpy dtype string ("<f4", "<u4", "<i4", "<u8",
-// "<f8", "|u1"). No Debian package offers this in C++, and the format is a
-// 10-byte preamble plus a Python-literal header, so it is written here.
+// "<f8", "|u1"). Debian's libxtensor-dev has an .npy reader/writer, but only
+// for xtensor arrays, a header-only dependency for some hundred lines here;
+// the format is a 10-byte preamble plus a Python-literal header, and the
+// reader must name the file and what was wrong on a bad one (InputError).
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -41,11 +41,6 @@
 namespace gi {
 namespace {
 
-// Checks this build can run; the others are accepted by the scenario format
-// (DESIGN §6) but refused here with a clear message rather than skipped.
-const std::set<std::string> kImplementedChecks = {"reference",   "finite",         "cluster_ids",
-                                                   "determinism", "cache_lifetime", "blend_lag", "jacobian"};
-
 std::vector<bool> visibility_of(const Scene& scene) {
   std::vector<bool> v;
   for (const Instance& i : scene.instances) v.push_back(i.visible);
@@ -81,15 +76,10 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   // cluster_ids "count_only": walk the events and count IDs; no device, nothing drawn.
   if (const CheckSpec* spec = scenario.find_check("cluster_ids"); spec && cluster_ids_params(*spec, scenario).count_only)
     return run_cluster_ids_count_only(scenario, frames, options);
-  // Realtime mode: the DI signal (light tiles + ReSTIR DI) under the resolved profile.
+  // Realtime mode: DI (light tiles + ReSTIR DI), with "gi" also ReSTIR GI,
+  // specular GI and the world cache, under the resolved profile.
   const bool realtime = scenario.mode == RenderMode::Realtime;
   const Profile profile = resolve_profile(scenario, options.profile, options.sets);
-  for (const CheckSpec& c : scenario.checks)
-    if (!kImplementedChecks.count(c.name))
-      throw InputError(scenario.file.string(), c.json_path + "/name",
-                       fmt::format("a check this build implements (reference, finite, cluster_ids, determinism, cache_lifetime, "
-                                   "blend_lag, jacobian); \"{}\" is not built yet",
-                                   c.name));
 
   const Scene initial = build_scene(scenario);
   for (const std::string& w : initial.warnings) spdlog::warn("{}: {}", scenario.name, w);

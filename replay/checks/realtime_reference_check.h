@@ -1,6 +1,7 @@
-// The `reference` check for the realtime mode (DESIGN §5, §6): the DI signal
-// against the Embree direct-lighting reference (core/shared/direct_integrator.h
-// defines "DI" for both), per compared frame and for the temporal mean over the
+// The `reference` check for the realtime mode (DESIGN §5, §6): the realtime
+// output against Embree: DI alone against the direct-lighting reference
+// (core/shared/direct_integrator.h defines "DI" for both), or with "gi": true
+// DI + GI + specular against the full path tracer, per compared frame and for the temporal mean over the
 // static window that frame ends.
 //
 // Noise honesty: temporal reuse correlates a chain's frames, so halves made of
