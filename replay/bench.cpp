@@ -21,7 +21,7 @@
 #include "core/scenes/cliff.h"
 #include "core/scenes/cornell_box.h"
 #include "gpu/device.h"
-#include "gpu/passes/ray_trace_test.h"
+#include "gpu/passes/ray_list_trace.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
 #include "replay/run_scenario.h"
@@ -204,10 +204,10 @@ int run_bench(const BenchOptions& o) {
       const auto set = bvh::make_ray_set(geometry, flat, visibility_of(scenes[s]), ro);
       const std::vector<shader::TestRay> test_rays = to_test_rays(set);
       const bvh::EmbreeRayCaster embree(geometry, flat, visibility_of(scenes[s]));
-      std::vector<std::unique_ptr<gpu::RayTraceTest>> tracers(o.ray_backends.size());
+      std::vector<std::unique_ptr<gpu::RayListTrace>> tracers(o.ray_backends.size());
       for (std::size_t b = 0; b < o.ray_backends.size(); ++b) {
         if (!devices[b]) continue;
-        tracers[b] = std::make_unique<gpu::RayTraceTest>(*devices[b], compiler, geometry, flat,
+        tracers[b] = std::make_unique<gpu::RayListTrace>(*devices[b], compiler, geometry, flat,
                                                          visibility_of(scenes[s]));
         tracers[b]->trace(test_rays, shader::TRACE_MODE_CLOSEST);  // warm-up: pipeline JIT on lavapipe
       }

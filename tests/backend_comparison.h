@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gpu/passes/ray_trace_test_types.h"
+#include "gpu/passes/ray_list_trace_types.h"
 
 namespace gi::test {
 

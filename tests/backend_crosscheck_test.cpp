@@ -24,7 +24,7 @@
 #include "core/scenes/cliff.h"
 #include "core/scenes/cornell_box.h"
 #include "gpu/device.h"
-#include "gpu/passes/ray_trace_test.h"
+#include "gpu/passes/ray_list_trace.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
 #include "tests/backend_comparison.h"
@@ -110,8 +110,8 @@ class Backends : public ::testing::Test {
     options.camera = gi::make_gpu_camera(scene.camera, 640, 360);
     const std::vector<TestRay> rays = to_test_rays(gi::bvh::make_ray_set(geometry, flat, visible, options));
 
-    gi::gpu::RayTraceTest rq(*rayquery_, *rayquery_compiler_, geometry, flat, visible);
-    gi::gpu::RayTraceTest bv(*bvh_, *bvh_compiler_, geometry, flat, visible);
+    gi::gpu::RayListTrace rq(*rayquery_, *rayquery_compiler_, geometry, flat, visible);
+    gi::gpu::RayListTrace bv(*bvh_, *bvh_compiler_, geometry, flat, visible);
     const std::vector<TestResult> a = rq.trace(rays, kModes);
     const std::vector<TestResult> b = bv.trace(rays, kModes);
     std::uint32_t hits = 0;

@@ -1,7 +1,7 @@
-// The ray-list pass (gpu/shaders/ray_trace_test.comp) that cross-checks the
+// The ray-list pass (gpu/shaders/ray_list_trace.comp) that cross-checks the
 // tracing backends and measures their ray rates: one ray in, one result out.
-#ifndef GI_GPU_PASSES_RAY_TRACE_TEST_TYPES_H
-#define GI_GPU_PASSES_RAY_TRACE_TEST_TYPES_H
+#ifndef GI_GPU_PASSES_RAY_LIST_TRACE_TYPES_H
+#define GI_GPU_PASSES_RAY_LIST_TRACE_TYPES_H
 #include "core/shared/host_device.h"
 
 GI_SHADER_BEGIN

@@ -6,7 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define SCENE_BINDINGS_NO_INTEGRATOR
 #include "gpu/shaders/scene_bindings.glsl"
-#include "gpu/passes/ray_trace_test_types.h"
+#include "gpu/passes/ray_list_trace_types.h"
 
 layout(local_size_x = TEST_RAY_WORKGROUP) in;
 

@@ -1,6 +1,7 @@
-// A test-and-benchmark pass (gpu/shaders/ray_trace_test.comp): uploads a
-// scene, builds the Device's tracing backend (TLAS or BVH), and traces ray
-// lists through trace_closest / trace_unoccluded. The backend cross-check
+// The ray-list pass (gpu/shaders/ray_list_trace.comp): uploads a scene,
+// builds the Device's tracing backend (TLAS or BVH), and traces ray lists
+// through trace_closest / trace_unoccluded. Production code (once named
+// ray_trace_test) that serves tests and benchmarks. The backend cross-check
 // (tests/backend_crosscheck_test.cpp) and `giharness bench` use it; the
 // frame pipeline does not.
 #pragma once
@@ -13,23 +14,23 @@
 #include "gpu/buffer.h"
 #include "gpu/bvh_buffers.h"
 #include "gpu/compute_pass.h"
-#include "gpu/passes/ray_trace_test_types.h"
+#include "gpu/passes/ray_list_trace_types.h"
 #include "gpu/timer.h"
 
 namespace gi::gpu {
 
 class ShaderCompiler;
 
-class RayTraceTest {
+class RayListTrace {
  public:
-  static constexpr const char* kShader = "gpu/shaders/ray_trace_test.comp";
+  static constexpr const char* kShader = "gpu/shaders/ray_list_trace.comp";
 
   // Sets `compiler`'s backend defines from device.backend() and compiles.
-  RayTraceTest(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry,
+  RayListTrace(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry,
                const FlatInstances& instances, const std::vector<bool>& visible);
-  ~RayTraceTest();
-  RayTraceTest(const RayTraceTest&) = delete;
-  RayTraceTest& operator=(const RayTraceTest&) = delete;
+  ~RayListTrace();
+  RayListTrace(const RayListTrace&) = delete;
+  RayListTrace& operator=(const RayListTrace&) = delete;
 
   // mode: shader::TRACE_MODE_* bits. Submits, waits, returns one result per ray.
   std::vector<shader::TestResult> trace(const std::vector<shader::TestRay>& rays, std::uint32_t mode);

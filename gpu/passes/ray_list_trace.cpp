@@ -1,4 +1,4 @@
-#include "gpu/passes/ray_trace_test.h"
+#include "gpu/passes/ray_list_trace.h"
 
 #include <fmt/format.h>
 
@@ -31,7 +31,7 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
   std::vector<DescriptorBinding> bindings = scene_descriptor_bindings();
   bindings.push_back({BINDING_TEST_RAYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_TEST_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
-  return ComputePass(device, "ray_trace_test", compiler.compile_file(RayTraceTest::kShader).spirv,
+  return ComputePass(device, "ray_list_trace", compiler.compile_file(RayListTrace::kShader).spirv,
                      std::move(bindings), 2 * sizeof(std::uint32_t));
 }
 
@@ -39,7 +39,7 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
 
 static_assert(sizeof(TestRay) == 32 && sizeof(TestResult) == 32);
 
-RayTraceTest::RayTraceTest(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry,
+RayListTrace::RayListTrace(Device& device, ShaderCompiler& compiler, const FlatGeometry& geometry,
                            const FlatInstances& flat, const std::vector<bool>& visible)
     : device_(device),
       vertices_(make_buffer(device, geometry.vertices, geometry_usage(device), "vertices")),
@@ -69,9 +69,9 @@ RayTraceTest::RayTraceTest(Device& device, ShaderCompiler& compiler, const FlatG
   pass_.bind_scene(scene);
 }
 
-RayTraceTest::~RayTraceTest() { vkDeviceWaitIdle(device_.handle()); }
+RayListTrace::~RayListTrace() { vkDeviceWaitIdle(device_.handle()); }
 
-std::vector<TestResult> RayTraceTest::trace(const std::vector<TestRay>& rays, std::uint32_t mode) {
+std::vector<TestResult> RayListTrace::trace(const std::vector<TestRay>& rays, std::uint32_t mode) {
   if (rays.empty()) return {};
   const VkDeviceSize bytes = rays.size() * sizeof(TestRay);
   if (!rays_ || rays_.size() < bytes) {
@@ -84,7 +84,7 @@ std::vector<TestResult> RayTraceTest::trace(const std::vector<TestRay>& rays, st
   const std::uint32_t push[2] = {std::uint32_t(rays.size()), mode};
   device_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin_frame(cmd);
-    timer_.begin(cmd, "ray_trace_test");
+    timer_.begin(cmd, "ray_list_trace");
     pass_.dispatch(cmd, group_count(std::uint32_t(rays.size()), TEST_RAY_WORKGROUP), 1, 1, push);
     timer_.end(cmd);
     compute_barrier(cmd);
