@@ -2,6 +2,13 @@
 
 namespace gi {
 
+std::vector<bool> Scene::visible_instances() const {
+  std::vector<bool> v;
+  v.reserve(instances.size());
+  for (const Instance& i : instances) v.push_back(i.visible);
+  return v;
+}
+
 std::optional<std::uint32_t> Scene::find_instance(const std::string& n) const {
   for (std::uint32_t i = 0; i < instances.size(); ++i)
     if (instances[i].name == n) return i;

@@ -64,6 +64,9 @@ struct Scene {
   std::vector<std::string> warnings;  // stated simplifications made on import
 
   std::optional<std::uint32_t> find_instance(const std::string& name) const;
+  // Each instance's visible flag, in instance order (what the GPU backends'
+  // update_scene and the ray sets take; Embree's bytes: instance_visibility).
+  std::vector<bool> visible_instances() const;
   std::optional<std::uint32_t> find_directional_light(const std::string& name) const;
   std::size_t triangle_count() const;  // over visible instances
 };

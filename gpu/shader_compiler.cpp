@@ -17,6 +17,7 @@
 #include <unistd.h>
 #include <xxhash.h>
 
+#include "core/cache_root.h"
 #include "core/errors.h"
 
 namespace gi::gpu {
@@ -117,12 +118,7 @@ ShaderCompiler::ShaderCompiler(std::optional<fs::path> cache_dir)
 
 ShaderCompiler::~ShaderCompiler() = default;
 
-fs::path ShaderCompiler::default_cache_dir() {
-  if (const char* d = std::getenv("GIHARNESS_CACHE_DIR"); d && *d) return d;
-  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return fs::path(d) / "giharness";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "giharness";
-  return fs::temp_directory_path() / "giharness-cache";
-}
+fs::path ShaderCompiler::default_cache_dir() { return cache_root(); }
 
 std::string ShaderCompiler::compiler_version() {
   glslang::Version v = glslang::GetVersion();

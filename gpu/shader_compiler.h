@@ -33,13 +33,13 @@ struct CompiledShader {
 
 class ShaderCompiler {
  public:
-  // cache_dir: without it, default_cache_dir().
+  // cache_dir: the cache root (SPIR-V under its spirv/); without it, default_cache_dir().
   explicit ShaderCompiler(std::optional<std::filesystem::path> cache_dir = std::nullopt);
   ~ShaderCompiler();
   ShaderCompiler(const ShaderCompiler&) = delete;
   ShaderCompiler& operator=(const ShaderCompiler&) = delete;
 
-  // env GIHARNESS_CACHE_DIR, else $XDG_CACHE_HOME/giharness, else ~/.cache/giharness.
+  // cache_root() (core/cache_root.h); SPIR-V goes to its spirv/ folder.
   static std::filesystem::path default_cache_dir();
   // glslang's version and the targets; part of every cache key.
   static std::string compiler_version();

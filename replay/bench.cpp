@@ -42,12 +42,6 @@ Scene bench_scene(const std::string& name, const BenchOptions& o) {
   throw InputError("--scenes", "", fmt::format("cornell_box, glossy_room or cliff; got \"{}\"", name));
 }
 
-std::vector<bool> visibility_of(const Scene& scene) {
-  std::vector<bool> v;
-  for (const Instance& i : scene.instances) v.push_back(i.visible);
-  return v;
-}
-
 // Timed repeats of the ray rates (--ray-repeats). Here rather than in
 // BenchOptions (replay/bench.h) only to keep this measurement option local.
 std::uint32_t ray_repeats = 5;
@@ -82,7 +76,7 @@ nlohmann::json time_pipeline(gpu::Device& device, gpu::ShaderCompiler& compiler,
   ro.gbuffer = true;
   ro.reference = true;
   gpu::Renderer renderer(device, compiler, geometry, ro);
-  renderer.update_scene(flat, visibility_of(scene));
+  renderer.update_scene(flat, scene.visible_instances());
   std::map<std::string, std::vector<double>> pass_ms;
   std::vector<double> frame_ms;
   for (std::uint32_t f = 0; f <= o.frames; ++f) {
@@ -144,7 +138,7 @@ CLI::App* add_bench_subcommand(CLI::App& app, BenchOptions& o) {
 
 int run_bench(const BenchOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  gpu::ShaderCompiler compiler(cache_root() / "spirv");
+  gpu::ShaderCompiler compiler(cache_root());
   nlohmann::json record;
   record["schema_version"] = 1;
   record["kind"] = "giharness bench";
@@ -201,14 +195,14 @@ int run_bench(const BenchOptions& o) {
       bvh::RaySetOptions ro;
       ro.count = o.rays;
       ro.kind = bvh::RayKind::diffuse;
-      const auto set = bvh::make_ray_set(geometry, flat, visibility_of(scenes[s]), ro);
+      const auto set = bvh::make_ray_set(geometry, flat, scenes[s].visible_instances(), ro);
       const std::vector<shader::TestRay> test_rays = to_test_rays(set);
-      const bvh::EmbreeRayCaster embree(geometry, flat, visibility_of(scenes[s]));
+      const bvh::EmbreeRayCaster embree(geometry, flat, scenes[s].visible_instances());
       std::vector<std::unique_ptr<gpu::RayListTrace>> tracers(o.ray_backends.size());
       for (std::size_t b = 0; b < o.ray_backends.size(); ++b) {
         if (!devices[b]) continue;
         tracers[b] = std::make_unique<gpu::RayListTrace>(*devices[b], compiler, geometry, flat,
-                                                         visibility_of(scenes[s]));
+                                                         scenes[s].visible_instances());
         tracers[b]->trace(test_rays, shader::TRACE_MODE_CLOSEST);  // warm-up: pipeline JIT on lavapipe
       }
       embree.closest_batch(set, o.embree_threads);  // warm-up

@@ -41,12 +41,6 @@
 namespace gi {
 namespace {
 
-std::vector<bool> visibility_of(const Scene& scene) {
-  std::vector<bool> v;
-  for (const Instance& i : scene.instances) v.push_back(i.visible);
-  return v;
-}
-
 Image sum_images(const Image& a, const Image& b) {
   Image s = a;
   for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] += b.pixels[i];
@@ -58,14 +52,6 @@ std::string image_hash(const Image& image) {
 }
 
 }  // namespace
-
-std::filesystem::path cache_root() {
-  if (const char* dir = std::getenv("GIHARNESS_CACHE_DIR"); dir && *dir) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "giharness";
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return std::filesystem::path(home) / ".cache" / "giharness";
-  return std::filesystem::temp_directory_path() / "giharness-cache";
-}
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -133,7 +119,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   check_resource_limits(scenario, initial, 0);
   gpu::Device device(options.device, gpu::parse_backend_request(options.backend));
   check_resource_limits(scenario, initial, device.largest_heap_bytes());
-  gpu::ShaderCompiler compiler(cache_root() / "spirv");
+  gpu::ShaderCompiler compiler(cache_root());
   FlatGeometry geometry = flatten_geometry(scene);
   gpu::RendererOptions renderer_options;
   renderer_options.width = width;
@@ -195,7 +181,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   if (cluster_ids_check)
     renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry), cluster_ids_check->params().layout);
   FlatInstances flat = flatten_instances(scene, geometry);
-  renderer->update_scene(flat, visibility_of(scene));
+  renderer->update_scene(flat, scene.visible_instances());
 
   FrameLog frame_log(options.out_dir / "frames.jsonl");
   std::uint64_t window_samples = 0;
@@ -241,7 +227,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     if (cluster_ids_check)
       renderer->set_cluster_ids(cluster_ids_check->mesh_cluster_ids(scene, geometry), cluster_ids_check->params().layout);
     flat = flatten_instances(scene, geometry);
-    renderer->update_scene(flat, visibility_of(scene));
+    renderer->update_scene(flat, scene.visible_instances());
     restore_capture(capture, *renderer);
     const nlohmann::json& loop = capture.manifest["loop"];
     if (loop.value("scene_hash", "") != scene_hash(flat))
@@ -306,7 +292,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     }
     if (changes.any()) {
       flat = flatten_instances(scene, geometry);
-      renderer->update_scene(flat, visibility_of(scene));
+      renderer->update_scene(flat, scene.visible_instances());
     }
     // The reference mode estimates one static image: any change starts a new
     // accumulation window.

@@ -2,6 +2,7 @@
 // by frame applying the scenario's events, record what the checks need, run
 // the checks, write summary.json and the requested captures.
 #pragma once
+#include "core/cache_root.h"  // cache_root(), for the commands that include this header
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -44,8 +45,5 @@ struct RunResult {
 // Throws InputError (exit 2) for bad scenarios and DeviceError (exit 3).
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
 
-// Cache of SPIR-V and Embree references: $GIHARNESS_CACHE_DIR, else
-// $XDG_CACHE_HOME/giharness, else ~/.cache/giharness.
-std::filesystem::path cache_root();
 
 }  // namespace gi

@@ -43,12 +43,6 @@ using gi::shader::TestResult;
 constexpr std::uint32_t kRays = 100000;
 constexpr std::uint32_t kModes = gi::shader::TRACE_MODE_CLOSEST | gi::shader::TRACE_MODE_UNOCCLUDED;
 
-std::vector<bool> visibility_of(const gi::Scene& scene) {
-  std::vector<bool> v;
-  for (const auto& i : scene.instances) v.push_back(i.visible);
-  return v;
-}
-
 std::vector<TestRay> to_test_rays(const std::vector<gi::bvh::TraceRay>& rays) {
   std::vector<TestRay> out;
   for (const auto& r : rays) out.push_back({glm::vec4(r.origin, r.tmax), glm::vec4(r.direction, 0.0f)});
@@ -103,7 +97,7 @@ class Backends : public ::testing::Test {
     ASSERT_EQ(bvh_->backend(), TraceBackend::bvh);
     const gi::FlatGeometry geometry = gi::flatten_geometry(scene);
     const gi::FlatInstances flat = gi::flatten_instances(scene, geometry);
-    const std::vector<bool> visible = visibility_of(scene);
+    const std::vector<bool> visible = scene.visible_instances();
     gi::bvh::RaySetOptions options;
     options.count = kRays;
     options.seed = 11;
@@ -191,7 +185,7 @@ gi::Image render_reference(Device& device, ShaderCompiler& compiler, const gi::S
   options.height = h;
   options.gbuffer = true;
   gi::gpu::Renderer renderer(device, compiler, geometry, options);
-  renderer.update_scene(flat, visibility_of(scene));
+  renderer.update_scene(flat, scene.visible_instances());
   for (std::uint32_t f = 0; f < 2; ++f) {
     gi::FrameConstants c{};
     c.camera = c.previous_camera = gi::make_gpu_camera(scene.camera, w, h);

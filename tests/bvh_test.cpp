@@ -26,12 +26,6 @@ namespace {
 using gi::bvh::Aabb;
 using gi::shader::BvhNode;
 
-std::vector<bool> visibility_of(const gi::Scene& scene) {
-  std::vector<bool> v;
-  for (const auto& i : scene.instances) v.push_back(i.visible);
-  return v;
-}
-
 bool contains(const glm::vec3& lo, const glm::vec3& hi, const Aabb& b) {
   return glm::all(glm::lessThanEqual(lo, b.lo)) && glm::all(glm::lessThanEqual(b.hi, hi));
 }
@@ -164,7 +158,7 @@ TEST(SceneBvh, RebuildsTheTlasOnlyWhenTransformsOrVisibilityChange) {
   gi::Scene scene = gi::make_cornell_box();
   const gi::FlatGeometry geometry = gi::flatten_geometry(scene);
   gi::FlatInstances flat = gi::flatten_instances(scene, geometry);
-  std::vector<bool> visible = visibility_of(scene);
+  std::vector<bool> visible = scene.visible_instances();
   gi::bvh::SceneBvh bvh(geometry);
   EXPECT_TRUE(bvh.update(flat.instances, visible));
   EXPECT_FALSE(bvh.update(flat.instances, visible)) << "nothing changed";
@@ -203,7 +197,7 @@ TEST(SceneBvh, AddedMeshesMatchAFreshBuild) {
   scene.instances.push_back(inst);
   const gi::FlatGeometry after = gi::flatten_geometry(scene);
   const gi::FlatInstances flat = gi::flatten_instances(scene, after);
-  std::vector<bool> visible = visibility_of(scene);
+  std::vector<bool> visible = scene.visible_instances();
   std::vector<bool> old_visible = visible;
   old_visible.back() = false;  // before the spawn
 
@@ -245,7 +239,7 @@ TEST(SceneBvh, HiddenInstancesAreNotHit) {
   gi::Scene scene = gi::make_cornell_box();
   const gi::FlatGeometry geometry = gi::flatten_geometry(scene);
   const gi::FlatInstances flat = gi::flatten_instances(scene, geometry);
-  std::vector<bool> visible = visibility_of(scene);
+  std::vector<bool> visible = scene.visible_instances();
   gi::bvh::SceneBvh bvh(geometry);
   bvh.update(flat.instances, visible);
   const gi::GpuCamera cam = gi::make_gpu_camera(scene.camera, 1, 1);
@@ -330,7 +324,7 @@ TEST(BvhCpuTwin, AgreesWithEmbreeOnACliff) {
   const gi::Scene scene = gi::make_cliff_scene(o);
   const gi::FlatGeometry geometry = gi::flatten_geometry(scene);
   const gi::FlatInstances flat = gi::flatten_instances(scene, geometry);
-  const std::vector<bool> visible = visibility_of(scene);
+  const std::vector<bool> visible = scene.visible_instances();
   gi::bvh::SceneBvh bvh(geometry);
   bvh.update(flat.instances, visible);
   const gi::bvh::EmbreeRayCaster embree(geometry, flat, visible);

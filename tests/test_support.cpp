@@ -49,7 +49,7 @@ std::filesystem::path source_dir() { return GIHARNESS_SOURCE_DIR; }
 GpuReference render_gpu_reference(const Scene& scene, std::uint32_t width, std::uint32_t height,
                                   std::uint32_t frames, std::uint32_t spp, std::uint32_t seed) {
   gpu::Device device;
-  gpu::ShaderCompiler compiler(cache_root() / "spirv");
+  gpu::ShaderCompiler compiler(cache_root());
   const FlatGeometry geometry = flatten_geometry(scene);
   const FlatInstances flat = flatten_instances(scene, geometry);
   gpu::RendererOptions options;

@@ -104,7 +104,7 @@ CacheBias cornell_cache_bias(float cell_size_base) {
   const FlatGeometry geometry = flatten_geometry(scene);
   const FlatInstances flat = flatten_instances(scene, geometry);
   gpu::Device device;
-  gpu::ShaderCompiler compiler(cache_root() / "spirv");
+  gpu::ShaderCompiler compiler(cache_root());
   gpu::RendererOptions options;
   options.width = w;
   options.height = h;

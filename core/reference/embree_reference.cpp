@@ -156,9 +156,8 @@ constexpr std::uint32_t kTile = 16;
 }  // namespace
 
 std::vector<std::uint8_t> instance_visibility(const Scene& scene) {
-  std::vector<std::uint8_t> v(scene.instances.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = scene.instances[i].visible ? 1 : 0;
-  return v;
+  const std::vector<bool> visible = scene.visible_instances();
+  return {visible.begin(), visible.end()};
 }
 
 ReferenceResult render_reference(const FlatGeometry& geometry, const FlatInstances& flat,
