@@ -167,14 +167,17 @@ TEST(WorldCacheGpu, CornellIrradianceBiasAgainstEmbree) {
             << coarse.normalised_mae << "; 0.0625 m cells: " << fine.energy_ratio << ", " << fine.normalised_mae
             << "\n";
   ASSERT_GT(coarse.points, 150u);
-  // The energy is held within 10 %. Pointwise, a 0.25 m cell (a Cornell wall
-  // is about 2 × 2 of them) holds one irradiance for lit and shadowed parts
-  // alike, measured at the cell's first query point: the error is the
-  // quantisation's, and it must shrink with the cells.
-  EXPECT_NEAR(coarse.energy_ratio, 1.0, 0.10);
-  EXPECT_NEAR(fine.energy_ratio, 1.0, 0.10);
-  EXPECT_LT(coarse.normalised_mae, 0.70);
-  EXPECT_LT(fine.normalised_mae, 0.6 * coarse.normalised_mae);
+  // Measured (lavapipe, 2026-12-02; the runs are bit-identical): energy
+  // 1.021 with 0.25 m cells, 0.953 with 0.0625 m; normalised mean |error|
+  // 0.552 and 0.253. Bounds a little outside those, so a regression of a few
+  // per cent fails. Pointwise, a 0.25 m cell (a Cornell wall is about 2 × 2
+  // of them) holds one irradiance for lit and shadowed parts alike, measured
+  // at the cell's first query point: the error is the quantisation's, and it
+  // must halve with cells a quarter the size.
+  EXPECT_NEAR(coarse.energy_ratio, 1.0, 0.05);
+  EXPECT_NEAR(fine.energy_ratio, 1.0, 0.06);
+  EXPECT_LT(coarse.normalised_mae, 0.60);
+  EXPECT_LT(fine.normalised_mae, 0.5 * coarse.normalised_mae);
 }
 
 // Life, checksum and radiance (and root frame) buffers bit-identical across
