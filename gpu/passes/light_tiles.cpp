@@ -29,7 +29,7 @@ void LightTiles::bind(const SceneResources& scene, const DiBuffers& b) {
 }
 
 void LightTiles::record(VkCommandBuffer cmd) const {
-  pass_.dispatch(cmd, group_count(settings_.tile_count * settings_.samples_per_tile, 64), settings_.chains);
+  pass_.dispatch(cmd, group_count(settings_.tile_count * settings_.samples_per_tile, LIGHT_TILE_WORKGROUP), settings_.chains);
 }
 
 }  // namespace gi::gpu

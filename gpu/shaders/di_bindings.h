@@ -24,6 +24,9 @@ struct DiPushConstants {
   uint accumulate;            // 1: add this frame to the accumulation
 };
 
+// light_tiles.comp: one invocation per tile sample, 64 a workgroup.
+GI_CONST uint LIGHT_TILE_WORKGROUP = 64u;
+
 GI_SHADER_END
 
 #endif

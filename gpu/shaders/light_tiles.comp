@@ -14,7 +14,7 @@
 #include "gpu/shaders/di_bindings.h"
 #include "core/shared/light_sampling.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = LIGHT_TILE_WORKGROUP) in;
 
 layout(std430, set = 0, binding = BINDING_LIGHT_TILE_SAMPLES) writeonly buffer TileSamples { LightSample tile_samples[]; };
 layout(std430, set = 0, binding = BINDING_LIGHT_TILE_PACKED) writeonly buffer TilePacked { PackedLightSample tile_packed[]; };
