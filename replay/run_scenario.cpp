@@ -155,16 +155,17 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     throw InputError(scenario.file.string(), "/cache_view", "\"cache_view\": true in \"mode\": \"realtime\" only");
   // Without the debug view only GI's queries put cells in the cache.
   const bool cache_fed = scenario.cache_view || (renderer_options.gi && renderer_options.gi->queries_world_cache());
-  for (const char* name : {"cache_lifetime", "blend_lag"})
-    if (const CheckSpec* spec = scenario.find_check(name); spec && !realtime)
+  for (const char* name : {"cache_lifetime", "blend_lag"}) {
+    const CheckSpec* spec = scenario.find_check(name);
+    if (spec && !realtime)
       throw InputError(scenario.file.string(), spec->json_path + "/name",
                        fmt::format("\"{}\" reads the world cache, which runs in \"mode\": \"realtime\" only", name));
-  for (const char* name : {"cache_lifetime", "blend_lag"})
-    if (const CheckSpec* spec = scenario.find_check(name); spec && !cache_fed)
+    if (spec && !cache_fed)
       throw InputError(scenario.file.string(), spec->json_path + "/name",
                        fmt::format("\"{}\" reads the world cache, which only GI's queries fill: set \"gi\": true "
                                    "(restir_gi.hit_radiance world_cache), or the debug \"cache_view\": true",
                                    name));
+  }
   if (const CheckSpec* spec = scenario.find_check("cache_lifetime"))
     cache_lifetime_check.emplace(cache_lifetime_params(
         *spec, scenario, static_cast<std::uint32_t>(profile.integer("world_cache.lifetime")), frames));
@@ -360,10 +361,11 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     gi_nonfinite_total += gi_nonfinite;
     if ((nonfinite_pixels > 0 || nonfinite_samples > 0 || gi_nonfinite > 0) && !first_nonfinite_frame)
       first_nonfinite_frame = frame;
+    const double output_luminance = mean_luminance(last_mean);
     nlohmann::json record = {{"frame", frame},
                          {"window_start", window_start},
                          {"window_samples", window_samples},
-                         {"mean_luminance", json_figure(mean_luminance(last_mean))},
+                         {"mean_luminance", json_figure(output_luminance)},
                          {"nonfinite_pixels", nonfinite_pixels},
                          {"nonfinite_samples", nonfinite_samples},
                          {"pass_ms", timings}};
@@ -385,7 +387,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
                                {"mean_radiance", json_figure(cache.mean_radiance)},
                                {"oldest_age", cache.oldest_age},
                                {"over_age_cells", cache.over_age_cells}};
-      std::map<std::string, double> lag_signal = {{"output_luminance", mean_luminance(last_mean)}};
+      // The blend_lag signals, kept only when the check runs (the view's
+      // luminance is also in the frame record, the view being a debug option).
+      std::map<std::string, double> lag_signal = {{"output_luminance", output_luminance}};
       if (gi) {
         lag_signal["gi_luminance"] = gi_luminance;
         lag_signal["cache_mean_radiance"] = cache.mean_radiance;
@@ -395,7 +399,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
         record["world_cache"]["view_mean_luminance"] = json_figure(lag_signal["cache_view_luminance"]);
       }
       if (cache_lifetime_check) cache_lifetime_check->record_frame(frame, cache);
-      for (const auto& [name, value] : lag_signal) blend_lag_signals[name].values.push_back(value);
+      if (blend_lag)
+        for (const auto& [name, value] : lag_signal) blend_lag_signals[name].values.push_back(value);
     }
     frame_log.add(record);
     if (hash_log) hash_log->add(state_hashes(frame));
