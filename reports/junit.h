@@ -12,7 +12,7 @@
 
 namespace gi {
 
-// From the suite summary.json that replay/nightly.cpp writes.
+// From the suite summary.json that replay/cli/nightly.cpp writes.
 std::string junit_xml(const nlohmann::json& suite_summary);
 
 std::string xml_escape(const std::string& text);

@@ -17,7 +17,7 @@
 
 #include <fmt/format.h>
 
-#include "replay/sweep_plan.h"
+#include "replay/cli/sweep_plan.h"
 #include "tests/test_support.h"
 
 extern char** environ;

@@ -1,5 +1,5 @@
 // The subcommands: options are bound to CLI11 here; each command's work lives
-// in its own file (run_scenario.cpp, reference_command.cpp, nightly.cpp).
+// in its own file (replay/run_scenario.cpp; here reference_command.cpp, nightly.cpp, …).
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "replay/bench.h"
+#include "replay/cli/bench.h"
 #include "replay/run_scenario.h"
 
 namespace gi {
@@ -63,10 +63,10 @@ struct ReplayOptions {
   std::optional<int> device;              // default: the capturing run's
 };
 
-int run_replay_command(const ReplayOptions& options);           // replay/replay_command.cpp
-int run_baseline_update(const BaselineUpdateOptions& options);  // replay/nightly.cpp
-int run_merge(const MergeOptions& options);                     // replay/merge.cpp
-int run_sweep(const SweepOptions& options);                     // replay/sweep.cpp
+int run_replay_command(const ReplayOptions& options);           // replay/cli/replay_command.cpp
+int run_baseline_update(const BaselineUpdateOptions& options);  // replay/cli/nightly.cpp
+int run_merge(const MergeOptions& options);                     // replay/cli/merge.cpp
+int run_sweep(const SweepOptions& options);                     // replay/cli/sweep.cpp
 
 struct ClustersCommandOptions {
   std::filesystem::path input;  // scenario, glTF file, or "cliff[:key=value,...]"
@@ -75,7 +75,7 @@ struct ClustersCommandOptions {
 };
 
 int run_reference_command(const ReferenceCommandOptions& options);
-int run_clusters_command(const ClustersCommandOptions& options);  // replay/clusters_command.cpp
+int run_clusters_command(const ClustersCommandOptions& options);  // replay/cli/clusters_command.cpp
 int run_nightly(const NightlyOptions& options);
 int list_devices_command();
 

@@ -10,7 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/errors.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 #include "reports/suite_report.h"
 #include "reports/summary.h"
 

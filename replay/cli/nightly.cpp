@@ -23,7 +23,7 @@
 #include "core/errors.h"
 #include "core/scenario.h"
 #include "gpu/device.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 #include "reports/baseline_store.h"
 #include "reports/figures.h"
 #include "reports/json_figures.h"

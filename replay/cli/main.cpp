@@ -8,7 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/errors.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"giharness: deterministic validation harness for real-time ray-traced GI"};

@@ -14,7 +14,7 @@
 #include "core/scenario.h"
 #include "replay/capture.h"
 #include "replay/checks/determinism_check.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 
 namespace gi {
 

@@ -1,4 +1,4 @@
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 
 #include <spdlog/spdlog.h>
 
@@ -91,7 +91,7 @@ void Commands::add_to(CLI::App& app) {
 
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
 
-  bench_ = add_bench_subcommand(app, bench_options_);  // replay/bench.cpp
+  bench_ = add_bench_subcommand(app, bench_options_);  // replay/cli/bench.cpp
 
   clusters_ = app.add_subcommand("clusters", "build the cluster DAG of a mesh or a scenario's meshes; per-level table");
   clusters_->add_option("input", clusters_options_.input,

@@ -17,7 +17,7 @@
 #include "core/scenario.h"
 #include "core/scene_builder.h"
 #include "core/scenes/cliff.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 #include "replay/events.h"
 
 namespace gi {

@@ -1,4 +1,4 @@
-#include "replay/sweep_plan.h"
+#include "replay/cli/sweep_plan.h"
 
 #include <algorithm>
 #include <regex>

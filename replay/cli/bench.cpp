@@ -1,4 +1,4 @@
-#include "replay/bench.h"
+#include "replay/cli/bench.h"
 
 #include <algorithm>
 #include <chrono>

@@ -12,7 +12,7 @@
 #include "core/scenario.h"
 #include "core/scene_builder.h"
 #include "replay/checks/reference_check.h"
-#include "replay/commands.h"
+#include "replay/cli/commands.h"
 #include "replay/events.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
