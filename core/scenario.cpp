@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "core/check_catalog.h"
 #include "core/errors.h"
+#include "core/json_reader.h"
 
 namespace gi {
 
@@ -70,16 +72,11 @@ const ScenarioKeys& scenario_keys() {
     k.camera_pose_keys = {"position", "target", "fov_y_degrees"};
     k.mesh_generator_keys = {"generator", "params"};
     k.spawn_repeat_keys = {"count", "frame_step", "first_number", "columns", "first_cell", "step", "row_step"};
-    k.check_names = {"reference", "finite", "determinism", "cache_lifetime", "blend_lag", "jacobian", "cluster_ids"};
-    k.check_keys = {
-        {"reference", {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp", "warmup_frames"}},
-        {"finite", {"name"}},
-        {"determinism", {"name", "second_run", "snapshot_frame"}},
-        {"cluster_ids", {"name", "cluster_bits", "triangle_bits", "count_only", "clusters_per_instance"}},
-        {"cache_lifetime", {"name", "occupancy_frames", "occupancy_ratio"}},
-        {"blend_lag", {"name", "epsilon", "delta", "lag_limit", "steady_frames", "signals"}},
-        {"jacobian", {"name", "max_jacobian"}},
-    };
+    // The checks declare themselves (core/check_catalog.h), each with its keys.
+    for (const CheckDeclaration& d : declared_checks()) {
+      k.check_names.push_back(d.name);
+      k.check_keys[d.name] = d.keys;
+    }
     k.cornell_box_params = {"light_scale", "albedo_scale", "blocks", "scale"};
     k.cliff_params = {"triangles", "seed", "width", "height", "depth"};
     return k;
@@ -105,106 +102,11 @@ std::vector<std::size_t> event_order(const Scenario& s) {
 
 namespace {
 
-std::string join(const std::vector<std::string>& v) {
-  std::string out;
-  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
-  return out;
-}
+using Reader = JsonReader;
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
 }
-
-// A short rendering of a value for "got …".
-std::string got(const json& j) {
-  std::string d = j.dump();
-  if (d.size() > 60) d = d.substr(0, 57) + "...";
-  const char* t = j.is_string() ? "string" : j.is_boolean() ? "boolean" : j.is_number() ? "number"
-                  : j.is_array() ? "array" : j.is_object() ? "object" : "null";
-  return fmt::format("got {} {}", t, d);
-}
-
-// Reads values while knowing where they are: every failure names the file and
-// the JSON Pointer.
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& expected) const {
-    throw InputError(file_, path, expected);
-  }
-
-  static std::string at(const std::string& path, const std::string& key) {
-    return path + "/" + json_pointer_token(key);
-  }
-  static std::string at(const std::string& path, std::size_t i) { return path + "/" + std::to_string(i); }
-
-  // An object with only `allowed` keys and every `required` one.
-  void object(const json& j, const std::string& path, const std::vector<std::string>& allowed,
-              const std::vector<std::string>& required = {}) const {
-    if (!j.is_object()) fail(path, "expected an object, " + got(j));
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (!contains(allowed, it.key()))
-        fail(at(path, it.key()), fmt::format("unknown key \"{}\"; expected one of: {}", it.key(), join(allowed)));
-    for (const std::string& r : required)
-      if (!j.contains(r)) fail(at(path, r), fmt::format("missing required key \"{}\"", r));
-  }
-
-  std::string string(const json& j, const std::string& path, bool non_empty = true) const {
-    if (!j.is_string()) fail(path, "expected a string, " + got(j));
-    std::string s = j.get<std::string>();
-    if (non_empty && s.empty()) fail(path, "expected a non-empty string");
-    return s;
-  }
-
-  std::string one_of(const json& j, const std::string& path, const std::vector<std::string>& options) const {
-    if (!j.is_string()) fail(path, fmt::format("expected one of {}, {}", join(options), got(j)));
-    std::string s = j.get<std::string>();
-    if (!contains(options, s)) fail(path, fmt::format("expected one of {}, got \"{}\"", join(options), s));
-    return s;
-  }
-
-  bool boolean(const json& j, const std::string& path) const {
-    if (!j.is_boolean()) fail(path, "expected true or false, " + got(j));
-    return j.get<bool>();
-  }
-
-  std::uint32_t uint(const json& j, const std::string& path, std::uint64_t lo, std::uint64_t hi) const {
-    const std::string range = fmt::format("an integer in {}..{}", lo, hi);
-    if (j.is_number_unsigned() || (j.is_number_integer() && j.get<std::int64_t>() >= 0)) {
-      std::uint64_t v = j.get<std::uint64_t>();
-      if (v < lo || v > hi) fail(path, fmt::format("expected {}, got {}", range, v));
-      return static_cast<std::uint32_t>(v);
-    }
-    if (j.is_number_integer()) fail(path, fmt::format("expected {}, got {}", range, j.get<std::int64_t>()));
-    fail(path, fmt::format("expected {}, {}", range, got(j)));
-  }
-
-  float number(const json& j, const std::string& path, double lo, double hi) const {
-    if (!j.is_number()) fail(path, fmt::format("expected a number in [{}, {}], {}", lo, hi, got(j)));
-    double v = j.get<double>();
-    if (!std::isfinite(v) || v < lo || v > hi) fail(path, fmt::format("expected a number in [{}, {}], got {}", lo, hi, v));
-    return static_cast<float>(v);
-  }
-
-  glm::vec3 vec3(const json& j, const std::string& path, double lo, double hi) const {
-    if (!j.is_array() || j.size() != 3)
-      fail(path, fmt::format("expected an array of 3 numbers in [{}, {}], {}", lo, hi, got(j)));
-    return glm::vec3(number(j[0], at(path, 0), lo, hi), number(j[1], at(path, 1), lo, hi),
-                     number(j[2], at(path, 2), lo, hi));
-  }
-
-  const json& array(const json& j, const std::string& path, std::size_t min_items = 0) const {
-    if (!j.is_array()) fail(path, "expected an array, " + got(j));
-    if (j.size() < min_items) fail(path, fmt::format("expected an array of at least {} item(s)", min_items));
-    return j;
-  }
-
-  const std::string& file() const { return file_; }
-
- private:
-  std::string file_;
-};
 
 // Ranges shared with the schema.
 constexpr double kMaxCoordinate = 1e6;    // metres
@@ -413,21 +315,9 @@ CheckSpec parse_check(const Reader& r, const json& j, std::size_t index) {
   CheckSpec c;
   c.name = r.one_of(j["name"], path + "/name", K.check_names);
   c.json_path = path;
-  auto fixed = K.check_keys.find(c.name);
-  if (fixed != K.check_keys.end()) r.object(j, path, fixed->second, {"name"});
+  r.object(j, path, K.check_keys.at(c.name), {"name"});
   c.params = j;
   c.params.erase("name");
-  if (c.name == "reference") {
-    if (j.contains("frames")) {
-      const json& f = r.array(j["frames"], path + "/frames", 1);
-      for (std::size_t i = 0; i < f.size(); ++i) r.uint(f[i], Reader::at(path + "/frames", i), 0, kMaxFrames - 1);
-    }
-    if (j.contains("relmse_noise_factor")) r.number(j["relmse_noise_factor"], path + "/relmse_noise_factor", 0.0, 1e6);
-    if (j.contains("energy_tolerance")) r.number(j["energy_tolerance"], path + "/energy_tolerance", 0.0, 1.0);
-    if (j.contains("relmse_tolerance")) r.number(j["relmse_tolerance"], path + "/relmse_tolerance", 0.0, 1e6);
-    // At least 2: the two half-sample images estimate the reference's noise.
-    if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 2, 1u << 24);
-  }
   return c;
 }
 
@@ -539,6 +429,9 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
       s.capture.push_back(f);
     }
   }
+  // Each check's own parameter rules, once the whole scenario is known.
+  for (const CheckSpec& c : s.checks)
+    if (const CheckDeclaration* d = find_declared_check(c.name); d && d->validate) d->validate(c, s);
   return s;
 }
 

@@ -67,6 +67,17 @@ CliffOptions cliff_options(const Scenario& s, const json& params, const std::str
   return o;
 }
 
+// The generators without parameters, by name: the one list (scene_generators() adds the two with).
+const std::vector<std::pair<std::string, Scene (*)()>>& parameterless_generators() {
+  static const std::vector<std::pair<std::string, Scene (*)()>> list = {
+      {"di_many_lights", &make_di_many_lights},       {"di_occluder", &make_di_occluder},
+      {"di_packing_range", &make_di_packing_range},   {"cache_closed_room", &make_cache_closed_room},
+      {"cache_room_and_yard", &make_cache_room_and_yard}, {"cache_open_field", &make_cache_open_field},
+      {"gi_corners", &make_gi_corners},               {"gi_mirror", &make_gi_mirror},
+      {"gi_hard_cases", &make_gi_hard_cases}};
+  return list;
+}
+
 Scene build_generator(const Scenario& s) {
   const json& params = s.scene.params;
   if (s.scene.generator == "cornell_box") {
@@ -89,29 +100,30 @@ Scene build_generator(const Scenario& s) {
     return make_cornell_box(o);
   }
   if (s.scene.generator == "cliff") return make_cliff_scene(cliff_options(s, params, "/scene/params"));
-  // The DI scenes (core/scenes/di_scenes.h) take no parameters.
-  for (const auto& [name, make] : {std::pair{"di_many_lights", &make_di_many_lights},
-                                   std::pair{"di_occluder", &make_di_occluder},
-                                   std::pair{"di_packing_range", &make_di_packing_range},
-                                   std::pair{"cache_closed_room", &make_cache_closed_room},
-                                   std::pair{"cache_room_and_yard", &make_cache_room_and_yard},
-                                   std::pair{"cache_open_field", &make_cache_open_field},
-                                   std::pair{"gi_corners", &make_gi_corners},
-                                   std::pair{"gi_mirror", &make_gi_mirror},
-                                   std::pair{"gi_hard_cases", &make_gi_hard_cases}}) {
+  // The DI, cache and GI scenes (core/scenes/di_scenes.h) take no parameters.
+  for (const auto& [name, make] : parameterless_generators()) {
     if (s.scene.generator != name) continue;
     if (!params.empty())
       throw InputError(file_of(s), "/scene/params/" + json_pointer_token(params.begin().key()),
                        fmt::format("no parameters: {} takes none", name));
     return make();
   }
+  std::string names;
+  for (const std::string& n : scene_generators()) names += (names.empty() ? "" : ", ") + n;
   throw InputError(file_of(s), "/scene/generator",
-                   fmt::format("expected a scene generator (one of: cornell_box, cliff, di_many_lights, di_occluder, "
-                               "di_packing_range, cache_closed_room, cache_room_and_yard, cache_open_field, gi_corners, gi_mirror, "
-                               "gi_hard_cases), got \"{}\"", s.scene.generator));
+                   fmt::format("expected a scene generator (one of: {}), got \"{}\"", names, s.scene.generator));
 }
 
 }  // namespace
+
+const std::vector<std::string>& scene_generators() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = {"cornell_box", "cliff"};
+    for (const auto& g : parameterless_generators()) n.push_back(g.first);
+    return n;
+  }();
+  return names;
+}
 
 Scene build_scene(const Scenario& s) {
   Scene scene = s.scene.generator.empty() ? import_gltf(s.scene.gltf) : build_generator(s);

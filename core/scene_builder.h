@@ -14,6 +14,10 @@ namespace gi {
 // and whatever validate_events() rejects.
 Scene build_scene(const Scenario& scenario);
 
+// Every scene generator's name, as "generator" accepts it (schema.json's
+// description lists them; tests/scenario_test.cpp holds it to this list).
+const std::vector<std::string>& scene_generators();
+
 // Checks every name the events use against `initial` (the scene build_scene
 // returns) in application order (frame, then position in the file): lights
 // name an instance (looked up first) or a directional light; instances and

@@ -131,4 +131,15 @@ GpuCamera make_gpu_camera(const Camera& camera, std::uint32_t width, std::uint32
   return c;
 }
 
+FrameConstants frame_constants(const GpuCamera& camera, const GpuCamera& previous_camera, const FlatInstances& flat,
+                               std::uint32_t width, std::uint32_t height, std::uint32_t frame, std::uint32_t seed,
+                               std::uint32_t spp) {
+  FrameConstants c{};
+  c.camera = camera;
+  c.previous_camera = previous_camera;
+  c.resolution_frame = glm::uvec4(width, height, frame, seed);
+  c.counts = glm::uvec4(static_cast<std::uint32_t>(flat.lights.size()), flat.directional_light_count, spp, frame * spp);
+  return c;
+}
+
 }  // namespace gi

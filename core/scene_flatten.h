@@ -55,4 +55,11 @@ FlatInstances flatten_instances(const Scene& scene, const FlatGeometry& geometry
 
 GpuCamera make_gpu_camera(const Camera& camera, std::uint32_t width, std::uint32_t height);
 
+// The constants of frame `frame` at `spp` samples per pixel. Sample indices
+// start at frame · spp: they depend on the frame only, so a replay from any
+// frame draws the same numbers as the run it replays.
+FrameConstants frame_constants(const GpuCamera& camera, const GpuCamera& previous_camera, const FlatInstances& flat,
+                               std::uint32_t width, std::uint32_t height, std::uint32_t frame, std::uint32_t seed,
+                               std::uint32_t spp);
+
 }  // namespace gi

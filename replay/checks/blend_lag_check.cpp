@@ -1,4 +1,8 @@
 #include "replay/checks/blend_lag_check.h"
+#include <map>
+#include "gpu/passes/world_cache.h"
+#include "replay/checks/cache_lifetime_check.h"
+#include "replay/checks/check_registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -172,5 +176,51 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
     for (std::size_t i = 0; i < failures.size(); ++i) c.message += (i ? "; " : "") + failures[i];
   return c;
 }
+
+
+namespace {
+
+// Records every signal the run has, per frame; judges the chosen ones at the end.
+class BlendLagPlugin final : public Check {
+ public:
+  explicit BlendLagPlugin(const CheckContext& c)
+      : params_(blend_lag_params(c.spec, c.scenario)), events_(lighting_event_frames(c.scenario)),
+        gi_(c.gi), view_(c.scenario.cache_view) {
+    require_world_cache(c);
+  }
+  CheckNeeds needs() const override {
+    CheckNeeds n;
+    n.reads = {FrameInput::output, FrameInput::cache_stats};
+    if (gi_) n.reads.insert(FrameInput::gi_luminance);
+    if (view_) n.reads.insert(FrameInput::cache_view);
+    return n;
+  }
+  void observe(const FrameView& f, nlohmann::json&) override {
+    signals_["output_luminance"].push_back(f.output_luminance());
+    if (gi_) {
+      signals_["gi_luminance"].push_back(f.gi_luminance());
+      signals_["cache_mean_radiance"].push_back(f.cache_stats()->mean_radiance);
+    }
+    if (view_) signals_["cache_view_luminance"].push_back(f.cache_view_luminance().value_or(0.0));
+  }
+  CheckResult result() override {
+    std::vector<BlendLagSignal> curves;
+    for (auto& [name, values] : signals_) curves.push_back({name, std::move(values)});
+    return judge_blend_lag(params_, events_, curves);
+  }
+
+ private:
+  BlendLagParams params_;
+  std::vector<std::uint32_t> events_;
+  bool gi_, view_;
+  std::map<std::string, std::vector<double>> signals_;
+};
+
+const CheckRegistration kRegistration{{"blend_lag", {"name", "epsilon", "delta", "lag_limit", "steady_frames", "signals"}, {}},
+                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
+                                        return std::make_unique<BlendLagPlugin>(c);
+                                      }};
+
+}  // namespace
 
 }  // namespace gi

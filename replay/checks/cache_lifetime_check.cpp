@@ -1,4 +1,6 @@
 #include "replay/checks/cache_lifetime_check.h"
+#include "core/profile.h"
+#include "replay/checks/check_registry.h"
 
 #include <algorithm>
 
@@ -116,6 +118,40 @@ CheckResult CacheLifetimeCheck::result() const {
     for (std::size_t i = 0; i < failures.size(); ++i) c.message += (i ? "; " : "") + failures[i];
   }
   return c;
+}
+
+
+namespace {
+
+// Reads the world cache's statistics with the root-frame instrumentation
+// compiled in (only for this check).
+class CacheLifetimePlugin final : public Check {
+ public:
+  explicit CacheLifetimePlugin(const CheckContext& c)
+      : check_(cache_lifetime_params(c.spec, c.scenario,
+                                     static_cast<std::uint32_t>(c.profile.integer("world_cache.lifetime")), c.frames)) {
+    require_world_cache(c);
+  }
+  CheckNeeds needs() const override { return {.reads = {FrameInput::cache_stats}, .cache_root_frame = true}; }
+  void observe(const FrameView& f, nlohmann::json&) override { check_.record_frame(f.frame(), *f.cache_stats()); }
+  CheckResult result() override { return check_.result(); }
+
+ private:
+  CacheLifetimeCheck check_;
+};
+
+const CheckRegistration kRegistration{{"cache_lifetime", {"name", "occupancy_frames", "occupancy_ratio"}, {}},
+                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
+                                        return std::make_unique<CacheLifetimePlugin>(c);
+                                      }};
+
+}  // namespace
+
+void require_world_cache(const CheckContext& c) {
+  if (!c.realtime) c.refuse("", "reads the world cache, which runs in \"mode\": \"realtime\" only");
+  if (!c.cache_fed)
+    c.refuse("", "reads the world cache, which only GI's queries fill: set \"gi\": true "
+                 "(restir_gi.hit_radiance world_cache), or the debug \"cache_view\": true");
 }
 
 }  // namespace gi

@@ -43,4 +43,9 @@ class CacheLifetimeCheck {
   std::optional<std::uint32_t> active_before_, active_after_;
 };
 
+struct CheckContext;
+// InputError unless the run feeds the world cache (realtime, with GI's
+// queries or the debug view): what cache_lifetime and blend_lag read.
+void require_world_cache(const CheckContext& context);
+
 }  // namespace gi

@@ -1,4 +1,8 @@
 #include "replay/checks/cluster_ids_check.h"
+#include <spdlog/spdlog.h>
+#include "gpu/renderer.h"
+#include "replay/checks/check_registry.h"
+#include "replay/run_scenario.h"
 
 #include <algorithm>
 
@@ -172,5 +176,47 @@ CheckResult ClusterIdsCheck::result() const {
   c.message = msg;
   return c;
 }
+
+
+namespace {
+
+// Walks the spawns when made (an overflow is named before anything is
+// drawn); gives the renderer its ID space after every (re)build; decodes the
+// packed IDs each frame. "count_only" runs alone, without a device.
+class ClusterIdsPlugin final : public Check {
+ public:
+  explicit ClusterIdsPlugin(const CheckContext& c)
+      : scenario_(c.scenario), initial_(c.initial), options_(c.options), frames_(c.frames), params_(cluster_ids_params(c.spec, c.scenario)) {
+    if (params_.count_only) return;  // the walk happens in run_alone()
+    check_.emplace(params_, c.scenario, c.initial, c.frames);
+    if (const auto& o = check_->overflow())
+      spdlog::error("{}: cluster_ids: spawn {} ({}, frame {}) will overflow {} cluster bits: {} > {}", c.scenario.name,
+                    o->instance, o->event, o->frame, params_.layout.cluster_bits, o->ids_after, o->limit);
+  }
+  CheckNeeds needs() const override { return {.reads = {FrameInput::cluster_visibility}, .gbuffer = true}; }
+  void prepare(gpu::Renderer& renderer, const Scene& scene, const FlatGeometry& geometry) override {
+    renderer.set_cluster_ids(check_->mesh_cluster_ids(scene, geometry), params_.layout);
+  }
+  void observe(const FrameView& f, nlohmann::json& record) override {
+    record["cluster_ids"] = check_->record_frame(f.frame(), f.packed_visibility(), f.cluster_table());
+  }
+  CheckResult result() override { return check_->result(); }
+  bool runs_alone() const override { return params_.count_only; }
+  RunResult run_alone() override { return run_cluster_ids_count_only(scenario_, initial_, frames_, options_); }
+
+ private:
+  const Scenario& scenario_;
+  const Scene& initial_;
+  const RunOptions& options_;
+  std::uint32_t frames_;
+  ClusterIdsParams params_;
+  std::optional<ClusterIdsCheck> check_;
+};
+
+const CheckRegistration kRegistration{
+    {"cluster_ids", {"name", "cluster_bits", "triangle_bits", "count_only", "clusters_per_instance"}, {}},
+    [](const CheckContext& c) -> std::unique_ptr<Check> { return std::make_unique<ClusterIdsPlugin>(c); }};
+
+}  // namespace
 
 }  // namespace gi

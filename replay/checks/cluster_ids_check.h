@@ -90,6 +90,7 @@ class ClusterIdsCheck {
 // run_scenario() for a scenario whose cluster_ids check is count_only: builds
 // the scene, walks the events, writes summary.json; no device. Every other
 // check of the scenario is refused (InputError): they need a drawn frame.
-RunResult run_cluster_ids_count_only(const Scenario& scenario, std::uint32_t frames, const RunOptions& options);
+RunResult run_cluster_ids_count_only(const Scenario& scenario, const Scene& initial, std::uint32_t frames,
+                                     const RunOptions& options);
 
 }  // namespace gi

@@ -6,13 +6,13 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "core/scene_builder.h"
 #include "replay/checks/cluster_ids_check.h"
 #include "reports/summary.h"
 
 namespace gi {
 
-RunResult run_cluster_ids_count_only(const Scenario& scenario, std::uint32_t frames, const RunOptions& options) {
+RunResult run_cluster_ids_count_only(const Scenario& scenario, const Scene& initial, std::uint32_t frames,
+                                     const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const CheckSpec* spec = scenario.find_check("cluster_ids");
   for (const CheckSpec& c : scenario.checks)
@@ -21,7 +21,6 @@ RunResult run_cluster_ids_count_only(const Scenario& scenario, std::uint32_t fra
                        fmt::format("no other check next to a count-only cluster_ids check (\"{}\" needs drawn "
                                    "frames); drop \"count_only\" or this check",
                                    c.name));
-  const Scene initial = build_scene(scenario);
   const ClusterIdsCheck check(cluster_ids_params(*spec, scenario), scenario, initial, frames);
 
   RunResult result;

@@ -1,4 +1,5 @@
 #include "replay/checks/determinism_check.h"
+#include "replay/checks/check_registry.h"
 
 #include <fstream>
 #include <map>
@@ -159,5 +160,37 @@ CheckResult run_determinism_check(const Scenario& scenario, const RunOptions& ma
   for (const std::string& l : lines) r.message += (r.message.empty() ? "" : "; ") + l;
   return r;
 }
+
+
+namespace {
+
+// Asks the main run for its hashes and the snapshot capture; the second run
+// and the replay happen after it, in result().
+class DeterminismPlugin final : public Check {
+ public:
+  explicit DeterminismPlugin(const CheckContext& c)
+      : scenario_(c.scenario), options_(c.options), params_(determinism_params(c.spec, c.scenario, c.frames)) {}
+  CheckNeeds needs() const override {
+    CheckNeeds n;
+    n.frames = std::set<std::uint32_t>{};  // judges no frame of the main run
+    n.record_hashes = true;
+    if (params_.snapshot_frame) n.captures.insert(*params_.snapshot_frame);
+    return n;
+  }
+  void observe(const FrameView&, nlohmann::json&) override {}
+  CheckResult result() override { return run_determinism_check(scenario_, options_, params_); }
+
+ private:
+  const Scenario& scenario_;
+  const RunOptions& options_;
+  DeterminismParams params_;
+};
+
+const CheckRegistration kRegistration{{"determinism", {"name", "second_run", "snapshot_frame"}, {}},
+                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
+                                        return std::make_unique<DeterminismPlugin>(c);
+                                      }};
+
+}  // namespace
 
 }  // namespace gi

@@ -1,4 +1,6 @@
 #include "replay/checks/jacobian_check.h"
+#include "core/profile.h"
+#include "replay/checks/check_registry.h"
 
 #include <cmath>
 
@@ -84,5 +86,33 @@ CheckResult JacobianCheck::result() const {
                                 frames_, merges_, rejections_, max_accepted_j_, params_.max_jacobian);
   return r;
 }
+
+
+namespace {
+
+// Reads GI's statistics each frame; its figures replace the frame record's
+// plain "gi" entry.
+class JacobianPlugin final : public Check {
+ public:
+  explicit JacobianPlugin(const CheckContext& c)
+      : check_(jacobian_check_params(c.spec, c.scenario, c.profile.number("restir_gi.jacobian_reject"))) {
+    if (!c.gi) c.refuse("", "reads ReSTIR GI: a realtime scenario with \"gi\": true");
+  }
+  CheckNeeds needs() const override { return {.reads = {FrameInput::gi_stats}}; }
+  void observe(const FrameView& f, nlohmann::json& record) override {
+    record["gi"] = check_.record_frame(f.frame(), *f.gi_stats());
+  }
+  CheckResult result() override { return check_.result(); }
+
+ private:
+  JacobianCheck check_;
+};
+
+const CheckRegistration kRegistration{{"jacobian", {"name", "max_jacobian"}, {}},
+                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
+                                        return std::make_unique<JacobianPlugin>(c);
+                                      }};
+
+}  // namespace
 
 }  // namespace gi

@@ -1,4 +1,10 @@
 #include "replay/checks/reference_check.h"
+#include "core/cache_root.h"
+#include "core/json_reader.h"
+#include "core/reference/reference_cache.h"
+#include "replay/checks/check_registry.h"
+#include "replay/checks/realtime_reference_check.h"
+#include "replay/run_scenario.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,8 +19,8 @@
 namespace gi {
 namespace {
 
-// The scenario parser has range-checked every parameter (core/scenario.cpp);
-// here they are only read.
+// validate_reference_params (at parse time) has range-checked every
+// parameter; here they are only read.
 double number_param(const CheckSpec& spec, const char* key, double fallback) {
   return spec.params.contains(key) ? spec.params[key].get<double>() : fallback;
 }
@@ -152,5 +158,80 @@ CheckResult ReferenceCheck::result() const {
                   : first_problem;
   return r;
 }
+
+
+namespace {
+
+// Types and ranges, at parse time; frames against the run's length when the
+// check is made (--frames may shorten it).
+void validate_reference_params(const CheckSpec& spec, const Scenario& scenario) {
+  const JsonReader r(scenario.file.string());
+  const nlohmann::json& j = spec.params;
+  const std::string& path = spec.json_path;
+  if (j.contains("frames")) {
+    const nlohmann::json& f = r.array(j["frames"], path + "/frames", 1);
+    for (std::size_t i = 0; i < f.size(); ++i) r.uint(f[i], JsonReader::at(path + "/frames", i), 0, kMaxFrames - 1);
+  }
+  if (j.contains("relmse_noise_factor")) r.number(j["relmse_noise_factor"], path + "/relmse_noise_factor", 0.0, 1e6);
+  if (j.contains("energy_tolerance")) r.number(j["energy_tolerance"], path + "/energy_tolerance", 0.0, 1.0);
+  if (j.contains("relmse_tolerance")) r.number(j["relmse_tolerance"], path + "/relmse_tolerance", 0.0, 1e6);
+  // At least 2: the two half-sample images estimate the reference's noise.
+  if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 2, 1u << 24);
+}
+
+// The reference mode: the accumulated mean and its two halves.
+class ReferencePlugin final : public Check {
+ public:
+  explicit ReferencePlugin(const CheckContext& c)
+      : check_(reference_check_params(c.spec, c.scenario, c.frames), c.seed, cache_root() / "reference",
+               c.options.out_dir) {}
+  CheckNeeds needs() const override {
+    return {.reads = {FrameInput::output, FrameInput::reference_halves},
+            .frames = std::set<std::uint32_t>(check_.params().frames.begin(), check_.params().frames.end())};
+  }
+  void observe(const FrameView& f, nlohmann::json&) override {
+    check_.compare_frame(f.frame(), f.scene(),
+                         GpuEstimate{f.output(), f.reference_half(0), f.reference_half(1), f.window_samples()});
+  }
+  CheckResult result() override { return check_.result(); }
+
+ private:
+  ReferenceCheck check_;
+};
+
+// The realtime mode: two independent chains, their frames and temporal means.
+class RealtimeReferencePlugin final : public Check {
+ public:
+  explicit RealtimeReferencePlugin(const CheckContext& c)
+      : check_(reference_check_params(c.spec, c.scenario, c.frames), c.seed, cache_root() / "reference",
+               c.options.out_dir) {}
+  CheckNeeds needs() const override {
+    return {.reads = {FrameInput::chains},
+            .frames = std::set<std::uint32_t>(check_.params().frames.begin(), check_.params().frames.end()),
+            .two_chains = true,
+            .warmup_frames = check_.params().warmup_frames};
+  }
+  void observe(const FrameView& f, nlohmann::json&) override {
+    RealtimeEstimate estimate{f.chain_frame(0), f.chain_frame(1), f.chain_mean(0), f.chain_mean(1), f.window_start(),
+                              f.chain_window_frames()};
+    estimate.full_gi = f.full_gi();
+    check_.compare_frame(f.frame(), f.scene(), estimate);
+  }
+  CheckResult result() override { return check_.result(); }
+
+ private:
+  RealtimeReferenceCheck check_;
+};
+
+const CheckRegistration kRegistration{
+    {"reference",
+     {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp", "warmup_frames"},
+     validate_reference_params},
+    [](const CheckContext& c) -> std::unique_ptr<Check> {
+      if (c.realtime) return std::make_unique<RealtimeReferencePlugin>(c);
+      return std::make_unique<ReferencePlugin>(c);
+    }};
+
+}  // namespace
 
 }  // namespace gi

@@ -80,11 +80,8 @@ nlohmann::json time_pipeline(gpu::Device& device, gpu::ShaderCompiler& compiler,
   std::map<std::string, std::vector<double>> pass_ms;
   std::vector<double> frame_ms;
   for (std::uint32_t f = 0; f <= o.frames; ++f) {
-    FrameConstants c{};
-    c.camera = c.previous_camera = make_gpu_camera(scene.camera, o.width, o.height);
-    c.resolution_frame = glm::uvec4(o.width, o.height, f, 1);
-    c.counts = glm::uvec4(std::uint32_t(flat.lights.size()), flat.directional_light_count, o.spp, f * o.spp);
-    renderer.render_frame(c);
+    const GpuCamera camera = make_gpu_camera(scene.camera, o.width, o.height);
+    renderer.render_frame(frame_constants(camera, camera, flat, o.width, o.height, f, 1, o.spp));
     if (f == 0) continue;  // warm-up: first-use costs (pipeline JIT on lavapipe)
     double sum = 0.0;
     for (const auto& t : renderer.last_timings()) {

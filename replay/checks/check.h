@@ -1,0 +1,152 @@
+// A check (DESIGN §6) as the frame loop sees it: one file per check under
+// replay/checks/, registered by name (check_registry.h). A check
+//   - parses its own parameters when it is made (from a CheckContext);
+//   - declares what it needs (CheckNeeds): the inputs it reads each frame,
+//     the frames it judges, and what the pipeline must compile or record
+//     for it (G-buffer, a second chain, the cache's root frames, hashes);
+//   - is shown each judged frame through a FrameView that gives exactly the
+//     declared inputs (reading anything else is a programming error);
+//   - returns a CheckResult: verdict, figures, limits, first failing frame,
+//     evidence.
+// The loop (replay/frame_loop.h) compiles and reads back only what some
+// check, the capture or the frame record asks for.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/image.h"
+#include "core/scenario.h"
+#include "replay/checks/check_result.h"
+
+namespace gi {
+
+struct Profile;
+struct Scene;
+struct FlatGeometry;
+struct RunOptions;
+struct RunResult;
+namespace gpu {
+class Renderer;
+struct GiFrameStats;
+struct WorldCacheFrameStats;
+}  // namespace gpu
+
+// What the run computes, fixed before the first frame; a check is made from it.
+struct CheckContext {
+  const Scenario& scenario;
+  const CheckSpec& spec;  // the check's own entry: params and JSON path
+  const Profile& profile;
+  const RunOptions& options;
+  const Scene& initial;   // the scene at frame 0
+  std::uint32_t frames = 0, seed = 0;
+  bool realtime = false;   // "mode": "realtime"
+  bool gi = false;         // ReSTIR GI and specular GI run ("gi": true)
+  bool cache_fed = false;  // the world cache runs: GI queries it, or the debug view does
+  // An InputError at the check's JSON path (key empty: the check's "name"):
+  // the scenario asks this check for something its run does not compute.
+  [[noreturn]] void refuse(const std::string& key, const std::string& why) const;
+};
+
+// What a check may read of a frame.
+enum class FrameInput {
+  output,              // the output image, its mean luminance and its non-finite pixels
+  gi_stats,            // ReSTIR GI's statistics (integer atomics, gpu/passes/gi_pipeline.h)
+  gi_luminance,        // mean luminance of the GI signal (chain A)
+  cache_stats,         // the world cache's statistics (gpu/passes/world_cache.h)
+  cache_view,          // mean luminance of the debug cache view
+  cluster_visibility,  // packed visibility IDs and the cluster table
+  chains,              // realtime chains A and B: this frame and the window's temporal mean
+  reference_halves,    // the reference mode's two half-sample means
+  nonfinite_samples,   // the reference mode's non-finite samples since the window began
+};
+
+struct CheckNeeds {
+  std::set<FrameInput> reads;
+  // The frames observe() is called on; none: every frame.
+  std::optional<std::set<std::uint32_t>> frames;
+  bool gbuffer = false;           // the G-buffer (cluster IDs, instance channel)
+  bool two_chains = false;        // a second independent realtime chain
+  bool cache_root_frame = false;  // the world cache's root-frame instrumentation
+  bool record_hashes = false;     // per-frame state hashes (buffer_hashes.jsonl)
+  std::set<std::uint32_t> captures;  // frames captured for the check
+  // Realtime accumulation windows start this many frames into each static window.
+  std::uint32_t warmup_frames = 0;
+};
+
+// One frame as the loop measured it (filled by replay/frame_loop.cpp).
+struct FrameData {
+  std::uint32_t frame = 0;
+  const Scene* scene = nullptr;
+  gpu::Renderer* renderer = nullptr;
+  std::uint32_t window_start = 0;    // first frame of the accumulation window
+  std::uint64_t window_samples = 0;  // samples per pixel accumulated in it
+  const Image* output = nullptr;
+  double output_luminance = 0.0;
+  std::uint64_t nonfinite_pixels = 0;
+  const gpu::GiFrameStats* gi_stats = nullptr;             // null without GI
+  double gi_luminance = 0.0;
+  const gpu::WorldCacheFrameStats* cache_stats = nullptr;  // null without the world cache
+  std::optional<double> cache_view_luminance;              // with the debug view
+};
+
+// A check's window on one frame: the declared inputs, nothing else.
+class FrameView {
+ public:
+  FrameView(const FrameData& data, const std::set<FrameInput>& allowed) : data_(data), allowed_(allowed) {}
+  std::uint32_t frame() const { return data_.frame; }
+  const Scene& scene() const { return *data_.scene; }
+  std::uint32_t window_start() const { return data_.window_start; }
+  std::uint64_t window_samples() const { return data_.window_samples; }
+
+  const Image& output() const;
+  double output_luminance() const;
+  std::uint64_t nonfinite_pixels() const;
+  const gpu::GiFrameStats* gi_stats() const;  // null without GI
+  double gi_luminance() const;
+  const gpu::WorldCacheFrameStats* cache_stats() const;  // null without the world cache
+  std::optional<double> cache_view_luminance() const;    // none without the debug view
+  std::vector<glm::uvec2> packed_visibility() const;
+  const std::vector<std::uint32_t>& cluster_table() const;
+  // Realtime: DI, plus GI and specular when they run, of chain 0 or 1.
+  Image chain_frame(std::uint32_t chain) const;
+  Image chain_mean(std::uint32_t chain) const;
+  std::uint32_t chain_window_frames() const;  // frames in chain A's temporal mean
+  bool full_gi() const;                       // the chains' images include GI and specular
+  Image reference_half(int which) const;
+  std::uint64_t nonfinite_samples() const;
+
+ private:
+  void require(FrameInput input, const char* what) const;
+  const FrameData& data_;
+  const std::set<FrameInput>& allowed_;
+};
+
+class Check {
+ public:
+  virtual ~Check() = default;
+  virtual CheckNeeds needs() const = 0;
+  // After the renderer is built or rebuilt, and after its geometry changes.
+  virtual void prepare(gpu::Renderer& /*renderer*/, const Scene& /*scene*/, const FlatGeometry& /*geometry*/) {}
+  // A judged frame; `record` is the frame's line in frames.jsonl, where the
+  // check may add its per-frame figures.
+  virtual void observe(const FrameView& frame, nlohmann::json& record) = 0;
+  // State carried through a capture, so a replay's verdict covers the frames
+  // before the snapshot too (null: none).
+  virtual nlohmann::json saved_state() const { return nullptr; }
+  virtual void restore_state(const nlohmann::json& /*state*/) {}
+  // After the last frame (and after the run's hash log is complete).
+  virtual CheckResult result() = 0;
+  // A check that decides without drawing anything (cluster_ids "count_only")
+  // runs the whole scenario itself.
+  virtual bool runs_alone() const { return false; }
+  virtual RunResult run_alone();
+};
+
+}  // namespace gi

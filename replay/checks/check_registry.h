@@ -1,0 +1,28 @@
+// Checks by name. Each check file registers itself in an anonymous-namespace
+// object:
+//
+//   const CheckRegistration kRegistration{{"finite", {"name"}}, make_finite_check};
+//
+// which also declares its name and keys to the scenario parser
+// (core/check_catalog.h). Nothing else names a check: the parser, the frame
+// loop, the summary, the JUnit writer and the reports find them here or in
+// the results. (The giharness and test binaries link gi_replay whole, so
+// registrations in otherwise unreferenced files are kept.)
+#pragma once
+#include <memory>
+
+#include "core/check_catalog.h"
+#include "replay/checks/check.h"
+
+namespace gi {
+
+using CheckFactory = std::unique_ptr<Check> (*)(const CheckContext& context);
+
+struct CheckRegistration {
+  CheckRegistration(CheckDeclaration declaration, CheckFactory factory);
+};
+
+// The check the context's spec names; InputError from its parameters.
+std::unique_ptr<Check> make_check(const CheckContext& context);
+
+}  // namespace gi

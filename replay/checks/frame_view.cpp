@@ -1,0 +1,93 @@
+// FrameView: every accessor first checks the check's declaration.
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "gpu/renderer.h"
+#include "replay/checks/check.h"
+
+namespace gi {
+
+
+void FrameView::require(FrameInput input, const char* what) const {
+  if (!allowed_.count(input))
+    throw std::logic_error(fmt::format("a check read {} at frame {} without declaring it (CheckNeeds::reads)", what,
+                                       data_.frame));
+}
+
+const Image& FrameView::output() const {
+  require(FrameInput::output, "the output");
+  return *data_.output;
+}
+double FrameView::output_luminance() const {
+  require(FrameInput::output, "the output's luminance");
+  return data_.output_luminance;
+}
+std::uint64_t FrameView::nonfinite_pixels() const {
+  require(FrameInput::output, "the output's non-finite pixels");
+  return data_.nonfinite_pixels;
+}
+const gpu::GiFrameStats* FrameView::gi_stats() const {
+  require(FrameInput::gi_stats, "GI statistics");
+  return data_.gi_stats;
+}
+double FrameView::gi_luminance() const {
+  require(FrameInput::gi_luminance, "the GI luminance");
+  return data_.gi_luminance;
+}
+const gpu::WorldCacheFrameStats* FrameView::cache_stats() const {
+  require(FrameInput::cache_stats, "world cache statistics");
+  return data_.cache_stats;
+}
+std::optional<double> FrameView::cache_view_luminance() const {
+  require(FrameInput::cache_view, "the cache view");
+  return data_.cache_view_luminance;
+}
+std::vector<glm::uvec2> FrameView::packed_visibility() const {
+  require(FrameInput::cluster_visibility, "packed visibility");
+  return data_.renderer->packed_visibility();
+}
+const std::vector<std::uint32_t>& FrameView::cluster_table() const {
+  require(FrameInput::cluster_visibility, "the cluster table");
+  return data_.renderer->cluster_table();
+}
+
+namespace {
+
+Image sum(Image a, const Image& b) {
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] += b.pixels[i];
+  return a;
+}
+
+}  // namespace
+
+bool FrameView::full_gi() const { return data_.renderer->has_gi(); }
+
+Image FrameView::chain_frame(std::uint32_t chain) const {
+  require(FrameInput::chains, "a chain's frame");
+  const gpu::Renderer& r = *data_.renderer;
+  Image img = r.di().frame(chain);
+  if (r.has_gi()) img = sum(sum(img, r.gi().gi_frame(chain)), r.gi().specular_frame(chain));
+  return img;
+}
+Image FrameView::chain_mean(std::uint32_t chain) const {
+  require(FrameInput::chains, "a chain's temporal mean");
+  const gpu::Renderer& r = *data_.renderer;
+  Image img = r.di().mean(chain);
+  if (r.has_gi()) img = sum(sum(img, r.gi().gi_mean(chain)), r.gi().specular_mean(chain));
+  return img;
+}
+std::uint32_t FrameView::chain_window_frames() const {
+  require(FrameInput::chains, "the chains' window");
+  return data_.renderer->di().accumulated_frames(0);
+}
+Image FrameView::reference_half(int which) const {
+  require(FrameInput::reference_halves, "a reference half");
+  return data_.renderer->reference_half(which);
+}
+std::uint64_t FrameView::nonfinite_samples() const {
+  require(FrameInput::nonfinite_samples, "non-finite samples");
+  return data_.renderer->reference_nonfinite_samples();
+}
+
+}  // namespace gi

@@ -1,0 +1,303 @@
+#include "replay/frame_loop.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "core/cache_root.h"
+#include "core/errors.h"
+#include "core/metrics.h"
+#include "replay/capture.h"
+#include "replay/events.h"
+#include "replay/resource_limits.h"
+#include "reports/json_figures.h"
+#include "reports/summary.h"
+
+namespace gi {
+namespace {
+
+Image sum_images(const Image& a, const Image& b) {
+  Image s = a;
+  for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] += b.pixels[i];
+  return s;
+}
+
+}  // namespace
+
+FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device)
+    : scenario_(scenario), options_(options), setup_(setup), device_(device), compiler_(cache_root()),
+      scene_(setup.initial), frame_log_(options.out_dir / "frames.jsonl") {
+  if (setup.record_hashes) hash_log_.emplace(options.out_dir / "buffer_hashes.jsonl");
+  build_renderer();
+  previous_camera_ = make_gpu_camera(scene_.camera, setup.width, setup.height);
+  if (!options.resume_from.empty()) resume();
+}
+
+void FrameLoop::build_renderer() {
+  geometry_ = flatten_geometry(scene_);
+  renderer_.reset();  // one pipeline's buffers at a time
+  renderer_ = std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, setup_.renderer_options);
+  for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
+  flat_ = flatten_instances(scene_, geometry_);
+  renderer_->update_scene(flat_, scene_.visible_instances());
+}
+
+nlohmann::json FrameLoop::state_hashes(std::uint32_t frame) {
+  gpu::StateList state;
+  renderer_->list_state(state);
+  return hash_record(frame, state);
+}
+
+// Replay: the scene at the captured frame (events are a pure function of the
+// frame), the pipeline rebuilt for it, its state, the loop's and the checks' restored.
+void FrameLoop::resume() {
+  const Capture capture = read_capture(options_.resume_from);
+  const std::string manifest = (capture.dir / "manifest.json").string();
+  if (capture.frame + 1 >= setup_.frames)
+    throw InputError(manifest, "/frame", fmt::format("a frame before the run's last ({} frames)", setup_.frames));
+  scene_ = scene_at_frame(setup_.initial, scenario_, capture.frame);
+  build_renderer();
+  restore_capture(capture, *renderer_);
+  const nlohmann::json& loop = capture.manifest["loop"];
+  if (loop.value("scene_hash", "") != scene_hash(flat_))
+    spdlog::warn("{}: the scene re-derived at frame {} differs from the captured one (scenario or code changed?)",
+                 manifest, capture.frame);
+  window_start_ = loop.value("window_start", 0u);
+  static_start_ = loop.value("static_start", window_start_);
+  window_samples_ = loop.value("window_samples", std::uint64_t{0});
+  const nlohmann::json& states = loop.contains("checks") ? loop["checks"] : nlohmann::json::object();
+  for (std::size_t i = 0; i < setup_.checks.size(); ++i)
+    if (states.contains(scenario_.checks[i].name)) setup_.checks[i]->restore_state(states[scenario_.checks[i].name]);
+  previous_camera_ = make_gpu_camera(scene_.camera, setup_.width, setup_.height);
+  nlohmann::json restored = state_hashes(capture.frame);
+  restored["restored"] = true;  // the state as restored, before any replayed frame
+  hash_log_->add(restored);
+  first_frame_ = capture.frame + 1;
+}
+
+// Spawns update the acceleration structures and scene buffers in place:
+// reservoirs, the world cache and every other pass's history carry on
+// (Bevy's Solari keeps them across scene changes). Only a spawned generated
+// mesh changes the flat geometry; meshes are only appended. Any change
+// starts a new accumulation window (the reference mode estimates one static
+// image); a realtime reference check with warmup_frames starts its window
+// that many frames into the static window.
+void FrameLoop::apply_frame_events(std::uint32_t frame) {
+  const ChangeSet changes = apply_events(scene_, setup_.initial, scenario_, frame);
+  if (changes.geometry) check_resource_limits(scenario_, scene_, device_.largest_heap_bytes());
+  if (changes.geometry && scene_.meshes.size() != geometry_.meshes.size()) {
+    geometry_ = flatten_geometry(scene_);
+    renderer_->update_geometry(geometry_);
+    for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
+  }
+  if (changes.any()) {
+    flat_ = flatten_instances(scene_, geometry_);
+    renderer_->update_scene(flat_, scene_.visible_instances());
+  }
+  if (changes.any() && frame > 0) static_start_ = frame;
+  const std::uint32_t warmup = setup_.warmup_frames;
+  if ((changes.any() && frame > 0) || (warmup > 0 && frame == static_start_ + warmup)) {
+    renderer_->reset_accumulation();
+    window_samples_ = 0;
+    window_start_ = frame;
+  }
+  // The temporal noise window: the second half of the run, restarted by any change.
+  const std::uint32_t noise_start = std::max(first_frame_, setup_.frames / 2);
+  if (setup_.realtime && (frame == noise_start || (changes.any() && frame > noise_start)))
+    temporal_noise_.restart(frame);
+}
+
+// Reads back this frame's output (realtime: chain A's signals, once) and
+// what the record and the checks need; returns the frame's record.
+nlohmann::json FrameLoop::measure(std::uint32_t frame, FrameData& data) {
+  nlohmann::json timings = nlohmann::json::object();
+  for (const auto& t : renderer_->last_timings()) timings[t.name] = json_figure(t.ms);
+  nlohmann::json signal_luminance = nullptr;
+  if (setup_.realtime) {
+    di_ = renderer_->di().frame(0);
+    output_ = di_;
+    signal_luminance = {{"di", json_figure(mean_luminance(di_))}};
+    if (setup_.gi) {
+      gi_ = renderer_->gi().gi_frame(0);
+      specular_ = renderer_->gi().specular_frame(0);
+      data.gi_luminance = mean_luminance(gi_);
+      signal_luminance["gi"] = json_figure(data.gi_luminance);
+      signal_luminance["specular"] = json_figure(mean_luminance(specular_));
+      output_ = sum_images(sum_images(output_, gi_), specular_);
+    }
+    if (frame >= std::max(first_frame_, setup_.frames / 2)) {
+      std::map<std::string, const Image*> signals = {{"output", &output_}, {"di", &di_}};
+      if (setup_.gi) {
+        signals["gi"] = &gi_;
+        signals["specular"] = &specular_;
+      }
+      temporal_noise_.add(signals);
+    }
+  } else {
+    output_ = renderer_->reference_mean();
+  }
+  data.output = &output_;
+  data.output_luminance = mean_luminance(output_);
+  data.nonfinite_pixels = count_nonfinite(output_);
+  nlohmann::json record = {{"frame", frame},
+                           {"window_start", window_start_},
+                           {"window_samples", window_samples_},
+                           {"mean_luminance", json_figure(data.output_luminance)},
+                           {"nonfinite_pixels", data.nonfinite_pixels},
+                           {"nonfinite_samples", setup_.realtime ? 0 : renderer_->reference_nonfinite_samples()},
+                           {"pass_ms", timings}};
+  if (setup_.realtime) record["signal_mean_luminance"] = signal_luminance;
+  return record;
+}
+
+void FrameLoop::run() {
+  const std::uint32_t width = setup_.width, height = setup_.height;
+  std::optional<gpu::GiFrameStats> gi_stats;
+  std::optional<gpu::WorldCacheFrameStats> cache_stats;
+  for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
+    apply_frame_events(frame);
+    const GpuCamera camera = make_gpu_camera(scene_.camera, width, height);
+    renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
+                                            frame, setup_.seed, scenario_.samples_per_frame));
+    previous_camera_ = camera;
+    window_samples_ += scenario_.samples_per_frame;
+
+    FrameData data;
+    data.frame = frame;
+    data.scene = &scene_;
+    data.renderer = renderer_.get();
+    data.window_start = window_start_;
+    data.window_samples = window_samples_;
+    nlohmann::json record = measure(frame, data);
+    if (setup_.gi) {
+      gi_stats = renderer_->gi().stats();
+      data.gi_stats = &*gi_stats;
+      record["gi"] = {{"merges", gi_stats->merges},
+                      {"rejections", gi_stats->rejections},
+                      {"max_accepted_j", json_figure(gi_stats->max_accepted_j)},
+                      {"nonfinite_reservoirs", gi_stats->nonfinite_reservoirs},
+                      {"nonfinite_output", gi_stats->nonfinite_output}};
+    }
+    if (setup_.renderer_options.world_cache) {
+      cache_stats = renderer_->world_cache().stats();
+      data.cache_stats = &*cache_stats;
+      record["world_cache"] = {{"active_cells", cache_stats->active_cells},
+                               {"live_cells", cache_stats->live_cells},
+                               {"mean_radiance", json_figure(cache_stats->mean_radiance)},
+                               {"oldest_age", cache_stats->oldest_age},
+                               {"over_age_cells", cache_stats->over_age_cells}};
+      if (scenario_.cache_view) {
+        data.cache_view_luminance = mean_luminance(renderer_->cache_view());
+        record["world_cache"]["view_mean_luminance"] = json_figure(*data.cache_view_luminance);
+      }
+    }
+    for (std::size_t i = 0; i < setup_.checks.size(); ++i) {
+      const CheckNeeds& needs = setup_.needs[i];
+      if (!needs.frames || needs.frames->count(frame))
+        setup_.checks[i]->observe(FrameView(data, needs.reads), record);
+    }
+    frame_log_.add(record);
+    if (hash_log_) hash_log_->add(state_hashes(frame));
+    if (setup_.captures.count(frame)) capture(frame);
+    if (!options_.quiet && (frame + 1) % 16 == 0)
+      spdlog::info("{}: frame {}/{}", scenario_.name, frame + 1, setup_.frames);
+  }
+  if (setup_.realtime) {
+    noise_ = {{"chain", renderer_->di().settings().chains >= 2 ? chain_noise_figures(setup_.frames - 1)
+                                                                  : nlohmann::json(nullptr)}};
+    noise_["temporal"] = {{"first_frame", temporal_noise_.first_frame()},
+                          {"frames", temporal_noise_.frames()},
+                          {"method", "per-pixel variance of chain A's signal over the frames of the window (the "
+                                     "run's second half, restarted by scene changes) / (m^2 + 0.01), averaged; "
+                                     "includes the world cache's own fluctuation, which the chain figures cancel"},
+                          {"signals", temporal_noise_.figures()}};
+  }
+  if (hash_log_) {
+    hash_log_->finish();
+    for (std::uint32_t f : captured_frames_) attach_run_hashes(options_.out_dir / capture_folder(f), hash_log_->file());
+  }
+}
+
+// Each signal's per-frame noise at `frame`, from chains A and B
+// (chain_noise), relative to the temporal mean of the whole output, so the
+// signals' figures are on one scale.
+nlohmann::json FrameLoop::chain_noise_figures(std::uint32_t frame) const {
+  const gpu::Renderer& r = *renderer_;
+  auto output_mean = [&](std::uint32_t chain) {
+    Image img = r.di().mean(chain);
+    if (setup_.gi) img = sum_images(sum_images(img, r.gi().gi_mean(chain)), r.gi().specular_mean(chain));
+    return img;
+  };
+  Image mean = output_mean(0);
+  const Image mean_b = output_mean(1);
+  for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (mean.pixels[i] + mean_b.pixels[i]);
+  // Each chain's signals, read back once.
+  std::map<std::string, Image> a, b;
+  for (auto [chain, out] : {std::pair{0u, &a}, std::pair{1u, &b}}) {
+    (*out)["di"] = r.di().frame(chain);
+    (*out)["output"] = (*out)["di"];
+    if (setup_.gi) {
+      (*out)["gi"] = r.gi().gi_frame(chain);
+      (*out)["specular"] = r.gi().specular_frame(chain);
+      (*out)["output"] = sum_images(sum_images((*out)["output"], (*out)["gi"]), (*out)["specular"]);
+    }
+  }
+  nlohmann::json signals = nlohmann::json::object();
+  for (const auto& [name, image] : a) signals[name] = json_figure(chain_noise(image, b.at(name), mean));
+  return nlohmann::json{{"frame", frame},
+                        {"method", "per-frame relMSE of one chain against its expectation: mean over pixels and "
+                                   "channels of (A - B)^2 / 2 / (m^2 + 0.01), A and B the two chains' signal at "
+                                   "this frame, m the temporal mean of the output (both chains)"},
+                        {"signals", signals}};
+}
+
+// Everything a replay needs to rebuild this run (replay/capture.h).
+void FrameLoop::capture(std::uint32_t frame) {
+  const gpu::Renderer& r = *renderer_;
+  auto chain_frame = [&](std::uint32_t chain) {
+    Image img = r.di().frame(chain);
+    if (setup_.gi) img = sum_images(sum_images(img, r.gi().gi_frame(chain)), r.gi().specular_frame(chain));
+    return img;
+  };
+  // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
+  const Image a = setup_.realtime ? chain_frame(0) : r.reference_half(0);
+  const Image b = setup_.realtime ? chain_frame(r.di().settings().chains - 1) : r.reference_half(1);
+  std::vector<Image> layers;
+  const std::vector<std::string> names = {"albedo", "normal", "depth", "motion"};
+  for (const std::string& n : names) layers.push_back(r.gbuffer_layer(n));
+  std::vector<std::pair<std::string, const Image*>> exr = {{"", &output_}, {"half_a", &a}, {"half_b", &b}};
+  if (setup_.realtime) exr.emplace_back("di", &di_);
+  if (setup_.gi) {
+    exr.emplace_back("gi", &gi_);
+    exr.emplace_back("specular", &specular_);
+  }
+  const Image cache_view_layer = scenario_.cache_view ? r.cache_view() : Image();
+  if (scenario_.cache_view) exr.emplace_back("cache_view", &cache_view_layer);
+  for (std::size_t i = 0; i < names.size(); ++i) exr.emplace_back(names[i], &layers[i]);
+  nlohmann::json check_states = nlohmann::json::object();
+  for (std::size_t i = 0; i < setup_.checks.size(); ++i)
+    if (nlohmann::json s = setup_.checks[i]->saved_state(); !s.is_null()) check_states[scenario_.checks[i].name] = s;
+  const RunOptions& o = options_;
+  nlohmann::json manifest = {
+      {"frame", frame},
+      {"frames", setup_.frames},
+      {"seed", setup_.seed},
+      {"scenario", {{"name", scenario_.name}, {"file", scenario_.file.string()}, {"document", scenario_.raw}}},
+      {"profile", scenario_.profile},
+      {"profile_option", o.profile ? nlohmann::json(*o.profile) : nlohmann::json(nullptr)},
+      {"overrides", scenario_.overrides},
+      {"sets", o.sets},
+      {"backend_request", o.backend},
+      {"backend", gpu::backend_name(device_.backend())},
+      {"device_index", o.device ? nlohmann::json(*o.device) : nlohmann::json(nullptr)},
+      {"device", device_.info().to_json()},
+      {"loop",
+       {{"window_start", window_start_},
+        {"static_start", static_start_},
+        {"window_samples", window_samples_},
+        {"checks", check_states},
+        {"scene_hash", scene_hash(flat_)}}}};
+  write_capture(o.out_dir / capture_folder(frame), manifest, *renderer_, exr, output_);
+  captured_frames_.push_back(frame);
+}
+
+}  // namespace gi

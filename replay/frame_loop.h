@@ -1,0 +1,78 @@
+// The second part of a run (replay/run_scenario.h): the frames. Per frame it
+// applies the scenario's events, renders, reads back what the frame record,
+// the noise figures, the captures and the checks need (each check through a
+// FrameView of what it declared), and records hashes and captures. A resumed
+// run (RunOptions::resume_from) rebuilds the pipeline at the captured frame
+// and restores its state, the loop's and the checks' first.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/image.h"
+#include "core/scene.h"
+#include "core/scene_flatten.h"
+#include "gpu/device.h"
+#include "gpu/renderer.h"
+#include "gpu/shader_compiler.h"
+#include "replay/frame_log.h"
+#include "replay/run_setup.h"
+#include "replay/signal_noise.h"
+
+namespace gi {
+
+class FrameLoop {
+ public:
+  FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device);
+  // Frames first_frame() .. frames-1; finishes the hash log.
+  void run();
+
+  std::uint32_t first_frame() const { return first_frame_; }
+  const Image& last_output() const { return output_; }
+  const gpu::Renderer& renderer() const { return *renderer_; }
+  std::size_t light_count() const { return flat_.lights.size(); }
+  FrameLog& frame_log() { return frame_log_; }
+  bool hash_log_written() const { return hash_log_.has_value(); }
+  const std::vector<std::uint32_t>& captured_frames() const { return captured_frames_; }
+  // summary.json's "noise": per-frame chain noise and temporal noise (realtime).
+  nlohmann::json noise() const { return noise_; }
+
+ private:
+  void build_renderer();  // the renderer for scene_, the checks prepared, the instances uploaded
+  void resume();
+  void apply_frame_events(std::uint32_t frame);
+  nlohmann::json measure(std::uint32_t frame, FrameData& data);
+  void capture(std::uint32_t frame);
+  nlohmann::json chain_noise_figures(std::uint32_t frame) const;
+  nlohmann::json state_hashes(std::uint32_t frame);
+
+  const Scenario& scenario_;
+  const RunOptions& options_;
+  RunSetup& setup_;
+  gpu::Device& device_;
+  gpu::ShaderCompiler compiler_;
+  Scene scene_;
+  FlatGeometry geometry_;
+  FlatInstances flat_;
+  std::unique_ptr<gpu::Renderer> renderer_;
+
+  // The accumulation window (reference mode; realtime temporal means).
+  std::uint64_t window_samples_ = 0;
+  std::uint32_t window_start_ = 0;  // first frame of the accumulated estimate
+  std::uint32_t static_start_ = 0;  // last frame the scene changed
+  std::uint32_t first_frame_ = 0;
+  GpuCamera previous_camera_{};
+  Image output_;                    // this frame's output
+  Image di_, gi_, specular_;        // realtime: chain A's signals this frame
+
+  FrameLog frame_log_;
+  std::optional<FrameLog> hash_log_;
+  TemporalNoise temporal_noise_;
+  nlohmann::json noise_ = nullptr;
+  std::vector<std::uint32_t> captured_frames_;
+};
+
+}  // namespace gi

@@ -1,0 +1,97 @@
+#include "replay/run_setup.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "core/errors.h"
+#include "core/scene_builder.h"
+#include "core/scene_flatten.h"
+#include "replay/checks/check_registry.h"
+#include "replay/realtime_settings.h"
+
+namespace gi {
+namespace {
+
+// The scenario's own captures past a shortened run (--frames) are skipped
+// with a note (schema.json: "frames past the run are never reached"); a
+// --capture past it is a mistake on the command line.
+void plan_captures(const Scenario& scenario, const RunOptions& options, RunSetup& s) {
+  for (std::uint32_t f : scenario.capture) {
+    if (f < s.frames) {
+      s.captures.insert(f);
+      continue;
+    }
+    s.skipped_captures.push_back(f);
+    spdlog::warn("{}: capture at frame {} skipped: the run has {} frames (--frames)", scenario.name, f, s.frames);
+  }
+  for (std::uint32_t f : options.capture) {
+    if (f >= s.frames)
+      throw InputError("--capture", "", fmt::format("frame {} is past the run's last frame {}", f, s.frames - 1));
+    s.captures.insert(f);
+  }
+}
+
+}  // namespace
+
+RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
+    : frames(options.frames.value_or(scenario.frames)),
+      seed(options.seed.value_or(scenario.seed)),
+      width(scenario.resolution[0]),
+      height(scenario.resolution[1]),
+      realtime(scenario.mode == RenderMode::Realtime),
+      profile(resolve_profile(scenario, options.profile, options.sets)),
+      initial(build_scene(scenario)) {
+  if (frames == 0) throw InputError("--frames", "", "expected a frame count of at least 1");
+  if (scenario.gi && !realtime)
+    throw InputError(scenario.file.string(), "/gi", "\"gi\": true in \"mode\": \"realtime\" only");
+  if (scenario.cache_view && !realtime)
+    throw InputError(scenario.file.string(), "/cache_view", "\"cache_view\": true in \"mode\": \"realtime\" only");
+  for (const std::string& w : initial.warnings) spdlog::warn("{}: {}", scenario.name, w);
+  gi = realtime && scenario.gi;
+  // Without the debug view only GI's queries put cells in the cache.
+  cache_fed = scenario.cache_view || (gi && gi_settings_from_profile(profile, 1).queries_world_cache());
+  plan_captures(scenario, options, *this);
+
+  for (const CheckSpec& spec : scenario.checks) {
+    const CheckContext context{scenario, spec, profile, options, initial, frames, seed, realtime, gi, cache_fed};
+    checks.push_back(make_check(context));
+    needs.push_back(checks.back()->needs());
+  }
+  bool gbuffer = false, two_chains = scenario.noise, root_frame = false;
+  for (const CheckNeeds& n : needs) {
+    captures.insert(n.captures.begin(), n.captures.end());
+    record_hashes = record_hashes || n.record_hashes;
+    gbuffer = gbuffer || n.gbuffer;
+    two_chains = two_chains || n.two_chains;
+    root_frame = root_frame || n.cache_root_frame;
+    warmup_frames = std::max(warmup_frames, n.warmup_frames);
+  }
+  // Captures carry the run's hashes (replay --verify), replays record theirs.
+  record_hashes = record_hashes || options.record_hashes || !captures.empty() || !options.resume_from.empty();
+
+  gpu::RendererOptions& r = renderer_options;
+  r.width = width;
+  r.height = height;
+  // Only what this scenario uses; runs that record hashes (captures, replays,
+  // the determinism check) always list the same buffers, G-buffer included.
+  r.gbuffer = realtime || gbuffer || !captures.empty() || record_hashes;
+  r.reference = !realtime;
+  const std::uint32_t chains = two_chains ? 2u : 1u;
+  if (realtime) {
+    const FlatGeometry geometry = flatten_geometry(initial);
+    r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
+                                    gi && profile.flag("specular.enabled"));
+  }
+  if (gi) r.gi = gi_settings_from_profile(profile, chains);
+  if (cache_fed) {
+    gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
+    cache.view = scenario.cache_view;
+    cache.stats = true;
+    cache.root_frame = root_frame;  // instrumentation compiled in only for a check that reads it
+    r.world_cache = cache;
+  }
+}
+
+}  // namespace gi

@@ -1,0 +1,45 @@
+// The first part of a run (replay/run_scenario.h): everything decided before
+// a device exists. The scenario's profile and initial scene, the frames to
+// capture, the checks (made through their registry, each parsing its own
+// parameters), and the renderer's options: only the passes and buffers the
+// scenario and its checks use.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/profile.h"
+#include "core/scenario.h"
+#include "core/scene.h"
+#include "gpu/renderer.h"
+#include "replay/checks/check.h"
+#include "replay/run_scenario.h"
+
+namespace gi {
+
+struct RunSetup {
+  // InputError (exit 2) for a scenario or an option the run cannot honour.
+  RunSetup(const Scenario& scenario, const RunOptions& options);
+  RunSetup(const RunSetup&) = delete;  // the checks hold references into it
+  RunSetup& operator=(const RunSetup&) = delete;
+
+  std::uint32_t frames = 0, seed = 0, width = 0, height = 0;
+  bool realtime = false;   // "mode": "realtime"
+  bool gi = false;         // ReSTIR GI and specular GI run
+  bool cache_fed = false;  // the world cache runs
+  Profile profile;
+  Scene initial;
+  std::set<std::uint32_t> captures;  // the scenario's, --capture's and the checks'
+  nlohmann::json skipped_captures = nlohmann::json::array();  // the scenario's, past a --frames run
+  bool record_hashes = false;
+  gpu::RendererOptions renderer_options;
+  // In the scenario's order; needs[i] is checks[i]'s declaration.
+  std::vector<std::unique_ptr<Check>> checks;
+  std::vector<CheckNeeds> needs;
+  std::uint32_t warmup_frames = 0;  // the largest any check asks for
+};
+
+}  // namespace gi

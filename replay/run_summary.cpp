@@ -1,0 +1,91 @@
+#include "replay/run_summary.h"
+
+#include <map>
+
+#include <fmt/format.h>
+#include <xxhash.h>
+
+#include "core/atomic_file.h"
+#include "replay/capture.h"
+#include "reports/json_figures.h"
+#include "reports/summary.h"
+
+namespace gi {
+namespace {
+
+std::string hash_of(const void* data, std::size_t bytes) { return fmt::format("{:016x}", XXH3_64bits(data, bytes)); }
+
+// Timing statistics over the kept records: every frame up to the log's
+// capacity, a regular subsample of longer runs (frames_log says which).
+void add_frames(FrameLog& log, nlohmann::json& s) {
+  const nlohmann::json kept = log.kept();
+  std::map<std::string, std::vector<double>> pass_ms;
+  for (const nlohmann::json& f : kept)
+    for (const auto& [name, ms] : f["pass_ms"].items())
+      if (ms.is_number()) pass_ms[name].push_back(ms.get<double>());
+  s["timings"] = timing_summary(pass_ms);
+  s["frames"] = kept;
+  log.finish();
+  s["frames_log"] = {{"file", "frames.jsonl"}, {"records", log.count()}, {"kept_every", log.stride()}};
+}
+
+}  // namespace
+
+void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captures, RunResult& result) {
+  const Scenario& scenario = run.scenario;
+  const RunSetup& setup = run.setup;
+  nlohmann::json checks = nlohmann::json::array();
+  for (const CheckResult& c : result.checks) checks.push_back(c.to_json());
+
+  nlohmann::json& s = result.summary;
+  s["schema_version"] = 1;
+  s["scenario"] = {{"name", scenario.name}, {"file", scenario.file.string()}, {"document", scenario.raw}};
+  s["resolved"] = {{"resolution", {setup.width, setup.height}},
+                   {"frames", setup.frames},
+                   {"seed", setup.seed},
+                   {"profile", scenario.profile},
+                   {"overrides", scenario.overrides},
+                   {"mode", setup.realtime ? "realtime" : "reference"},
+                   {"profile_values", setup.profile.to_json()},
+                   {"samples_per_frame", scenario.samples_per_frame},
+                   {"backend", gpu::backend_name(run.device.backend())}};
+  s["scene"] = {{"name", setup.initial.name},
+                {"instances", setup.initial.instances.size()},
+                {"triangles", setup.initial.triangle_count()},
+                {"lights", run.loop.light_count()},
+                {"warnings", setup.initial.warnings}};
+  s["device"] = run.device.info().to_json();
+  s["build"] = build_info();
+  s["verdict"] = result.exit_code == 0 ? "pass" : "fail";
+  s["exit_code"] = result.exit_code;
+  s["checks"] = checks;
+  add_frames(run.loop.frame_log(), s);
+  const Image& last = run.loop.last_output();
+  s["final_image_hash"] = hash_of(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
+  s["noise"] = run.loop.noise();
+  if (setup.renderer_options.world_cache) {
+    // The cache's persistent cells at the end: equal across runs and thread counts.
+    const gpu::WorldCache& cache = run.loop.renderer().world_cache();
+    auto hash = [](const auto& v) { return hash_of(v.data(), v.size() * sizeof(v[0])); };
+    s["world_cache_hashes"] = {{"checksums", hash(cache.checksums())},
+                               {"life", hash(cache.life())},
+                               {"radiance", hash(cache.radiance())},
+                               {"root_frame", hash(cache.root_frames())}};
+  }
+  nlohmann::json captures = nlohmann::json::array();
+  for (std::uint32_t f : run.loop.captured_frames()) captures.push_back(capture_images_file(f).string());
+  for (const nlohmann::json& f : failure_captures) {
+    const nlohmann::json file = capture_images_file(f["frame"].get<std::uint32_t>()).string();
+    if (std::find(captures.begin(), captures.end(), file) == captures.end()) captures.push_back(file);
+  }
+  s["captures"] = captures;
+  if (!setup.skipped_captures.empty()) s["skipped_captures"] = setup.skipped_captures;
+  s["failure_captures"] = failure_captures;
+  if (run.loop.hash_log_written()) s["hash_log"] = "buffer_hashes.jsonl";
+  if (!run.options.resume_from.empty())
+    s["resumed_from"] = {{"capture", run.options.resume_from.string()}, {"frame", run.loop.first_frame() - 1}};
+  s["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - run.started).count());
+  write_json_file(run.options.out_dir / "summary.json", s);
+}
+
+}  // namespace gi

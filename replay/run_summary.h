@@ -1,0 +1,26 @@
+// The last part of a run (replay/run_scenario.h): summary.json, written
+// atomically into the out dir. Its keys are documented in README
+// "Command line" and read by the nightly suite, baselines and reports.
+#pragma once
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+#include "replay/frame_loop.h"
+#include "replay/run_setup.h"
+
+namespace gi {
+
+struct RunFacts {
+  const Scenario& scenario;
+  const RunOptions& options;
+  const RunSetup& setup;
+  FrameLoop& loop;
+  const gpu::Device& device;
+  std::chrono::steady_clock::time_point started;
+};
+
+// Fills result.summary from the run and result.checks, and writes it.
+void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captures, RunResult& result);
+
+}  // namespace gi

@@ -1,0 +1,94 @@
+// The check registry (replay/checks/check_registry.h): every check the parser
+// accepts is made through it, declares what it reads, and a FrameView holds
+// it to that declaration.
+#include <set>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "core/check_catalog.h"
+#include "core/errors.h"
+#include "core/profile.h"
+#include "core/scenario.h"
+#include "core/scene_builder.h"
+#include "replay/checks/check_registry.h"
+#include "replay/run_scenario.h"
+
+namespace gi {
+namespace {
+
+Scenario realtime_gi_scenario(const nlohmann::json& checks) {
+  const nlohmann::json doc = {{"name", "registry"},
+                              {"scene", {{"generator", "cornell_box"}}},
+                              {"resolution", {16, 16}},
+                              {"frames", 8},
+                              {"mode", "realtime"},
+                              {"gi", true},
+                              {"checks", checks}};
+  return parse_scenario(doc, "registry.json");
+}
+
+TEST(CheckRegistry, EveryDeclaredCheckIsMadeThroughTheRegistry) {
+  std::set<std::string> names;
+  for (const CheckDeclaration& d : declared_checks()) names.insert(d.name);
+  EXPECT_EQ(names, (std::set<std::string>{"blend_lag", "cache_lifetime", "cluster_ids", "determinism", "finite",
+                                          "jacobian", "reference"}));
+  nlohmann::json checks = nlohmann::json::array();
+  for (const std::string& n : names) checks.push_back({{"name", n}});
+  const Scenario s = realtime_gi_scenario(checks);
+  const Profile profile = resolve_profile(s);
+  const Scene initial = build_scene(s);
+  const RunOptions options;
+  for (const CheckSpec& spec : s.checks) {
+    const CheckContext c{s, spec, profile, options, initial, s.frames, s.seed, true, true, true};
+    const std::unique_ptr<Check> check = make_check(c);
+    ASSERT_TRUE(check) << spec.name;
+    // determinism judges no frame of the main run; every other check reads something.
+    if (spec.name != "determinism") EXPECT_FALSE(check->needs().reads.empty()) << spec.name;
+  }
+}
+
+TEST(CheckRegistry, TheParserTakesNamesAndKeysFromTheRegistry) {
+  EXPECT_THROW(realtime_gi_scenario({{{"name", "no_such_check"}}}), InputError);
+  EXPECT_THROW(realtime_gi_scenario({{{"name", "finite"}, {"epsilon", 1}}}), InputError);
+  // Parse-time validation declared by the check (reference: spp >= 2).
+  try {
+    realtime_gi_scenario({{{"name", "reference"}, {"spp", 1}}});
+    FAIL() << "spp 1 accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/checks/0/spp");
+  }
+}
+
+TEST(CheckRegistry, AFrameViewRefusesWhatTheCheckDidNotDeclare) {
+  FrameData data;
+  data.frame = 3;
+  const Image output(2, 2);
+  data.output = &output;
+  const std::set<FrameInput> only_output = {FrameInput::output};
+  const FrameView view(data, only_output);
+  EXPECT_NO_THROW(view.output());
+  EXPECT_THROW(view.gi_stats(), std::logic_error);
+  EXPECT_THROW(view.cache_stats(), std::logic_error);
+  EXPECT_THROW(view.chain_frame(0), std::logic_error);
+}
+
+TEST(CheckRegistry, AChecksRequestTheRunCannotServeIsBadInputAtItsPath) {
+  const Scenario s = realtime_gi_scenario({{{"name", "jacobian"}}, {{"name", "cache_lifetime"}}});
+  const Profile profile = resolve_profile(s);
+  const Scene initial = build_scene(s);
+  const RunOptions options;
+  for (const CheckSpec& spec : s.checks) {
+    // As if "gi" were off: neither GI statistics nor a fed world cache.
+    const CheckContext c{s, spec, profile, options, initial, s.frames, s.seed, true, false, false};
+    try {
+      make_check(c);
+      FAIL() << spec.name << " made without what it reads";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.json_path(), spec.json_path + "/name") << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gi
