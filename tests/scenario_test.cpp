@@ -4,9 +4,12 @@
 
 #include <filesystem>
 #include <fstream>
-#include <functional>
-#include <regex>
 #include <set>
+
+#include <valijson/adapters/nlohmann_json_adapter.hpp>
+#include <valijson/schema.hpp>
+#include <valijson/schema_parser.hpp>
+#include <valijson/validator.hpp>
 
 #include "core/errors.h"
 #include "core/scenario.h"
@@ -26,99 +29,83 @@ json read_json(const fs::path& p) {
   return json::parse(in);
 }
 
-// ---- A minimal JSON Schema (2020-12) validator: the subset schema.json uses.
-class MiniValidator {
- public:
-  explicit MiniValidator(json schema) : root_(std::move(schema)) {}
-  bool valid(const json& v) const { return check(root_, v); }
+// ---- The schema, read by valijson (libvalijson-dev). Debian bookworm's
+// valijson 1.0 reads JSON Schema draft 7; schema.json is 2020-12. The subset
+// schema.json uses differs from draft 7 in one place only: a tuple is
+// `prefixItems` + `items` (the rest) in 2020-12, `items` (an array) +
+// `additionalItems` in draft 7. as_draft7 rewrites that and fails the test on
+// any keyword valijson does not implement (it would ignore it silently, and a
+// constraint the schema states would go unchecked). `$defs` needs nothing:
+// valijson resolves "#/$defs/..." as a JSON Pointer into the document, and
+// `$ref`'s siblings in schema.json are only descriptions (draft 7 ignores
+// them, 2020-12 applies them; checked below).
+const std::set<std::string> kDraft7Keywords = {
+    // what valijson 1.0 validates
+    "$ref", "type", "enum", "const", "properties", "additionalProperties", "required", "items", "additionalItems",
+    "minItems", "maxItems", "uniqueItems", "contains", "minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum",
+    "multipleOf", "pattern", "minLength", "maxLength", "minProperties", "maxProperties", "patternProperties",
+    "propertyNames", "dependencies", "oneOf", "anyOf", "allOf", "not", "if", "then", "else",
+    // annotations, and the container of definitions (never validated)
+    "$schema", "$id", "$defs", "$comment", "title", "description", "default", "examples"};
+const std::set<std::string> kAnnotations = {"$schema", "$id", "$comment", "title", "description", "default", "examples"};
 
- private:
-  const json& resolve(const json& s) const {
-    if (!s.is_object() || !s.contains("$ref")) return s;
-    std::string ref = s["$ref"];
-    EXPECT_EQ(ref.rfind("#/", 0), 0u) << ref;
-    return root_.at(json::json_pointer(ref.substr(1)));
+json as_draft7(json s, const std::string& where = "") {
+  if (s.is_boolean()) return s;
+  if (!s.is_object()) {
+    ADD_FAILURE() << "schema at " << where << " is neither an object nor a boolean";
+    return s;
   }
-  static bool type_ok(const std::string& t, const json& v) {
-    if (t == "object") return v.is_object();
-    if (t == "array") return v.is_array();
-    if (t == "string") return v.is_string();
-    if (t == "boolean") return v.is_boolean();
-    if (t == "integer") return v.is_number_integer() || (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()));
-    if (t == "number") return v.is_number();
-    if (t == "null") return v.is_null();
-    ADD_FAILURE() << "type " << t;
-    return false;
+  if (s.contains("prefixItems")) {
+    json rest = s.contains("items") ? s["items"] : json(true);
+    s["items"] = s["prefixItems"];
+    s["additionalItems"] = rest;
+    s.erase("prefixItems");
   }
-  bool check(const json& schema, const json& v) const {
-    if (schema.is_boolean()) return schema.get<bool>();
-    if (schema.contains("$ref") && !check(resolve(schema), v)) return false;
-    static const std::set<std::string> known = {"$schema", "$id", "$ref", "$defs", "title", "description", "default",
-        "type", "enum", "const", "properties", "additionalProperties", "required", "items", "prefixItems", "minItems",
-        "uniqueItems", "minimum", "maximum", "pattern", "minLength", "oneOf", "anyOf", "allOf", "not", "if", "then"};
-    for (auto it = schema.begin(); it != schema.end(); ++it)
-      if (!known.count(it.key())) ADD_FAILURE() << "MiniValidator does not know " << it.key();
-    if (schema.contains("type") && !type_ok(schema["type"], v)) return false;
-    if (schema.contains("enum") && std::find(schema["enum"].begin(), schema["enum"].end(), v) == schema["enum"].end()) return false;
-    if (schema.contains("const") && schema["const"] != v) return false;
-    if (v.is_number()) {
-      if (schema.contains("minimum") && v.get<double>() < schema["minimum"].get<double>()) return false;
-      if (schema.contains("maximum") && v.get<double>() > schema["maximum"].get<double>()) return false;
-    }
-    if (v.is_string()) {
-      if (schema.contains("minLength") && v.get<std::string>().size() < schema["minLength"].get<std::size_t>()) return false;
-      if (schema.contains("pattern") && !std::regex_search(v.get<std::string>(), std::regex(schema["pattern"].get<std::string>())))
-        return false;
-    }
-    if (v.is_object()) {
-      if (schema.contains("required"))
-        for (const json& r : schema["required"])
-          if (!v.contains(r.get<std::string>())) return false;
-      for (auto it = v.begin(); it != v.end(); ++it) {
-        if (schema.contains("properties") && schema["properties"].contains(it.key())) {
-          if (!check(schema["properties"][it.key()], it.value())) return false;
-        } else if (schema.contains("additionalProperties") && !check(schema["additionalProperties"], it.value())) {
-          return false;
-        }
+  if (s.contains("$ref"))
+    for (auto it = s.begin(); it != s.end(); ++it)
+      if (it.key() != "$ref" && !kAnnotations.count(it.key()))
+        ADD_FAILURE() << where << ": \"" << it.key() << "\" beside $ref (draft 7 would ignore it)";
+  for (auto it = s.begin(); it != s.end(); ++it) {
+    const std::string& k = it.key();
+    const std::string at = where + "/" + k;
+    if (!kDraft7Keywords.count(k))
+      ADD_FAILURE() << "valijson (draft 7) does not implement \"" << k << "\" at " << (where.empty() ? "/" : where);
+    if (k == "properties" || k == "patternProperties" || k == "$defs" || k == "dependencies") {
+      for (auto p = it->begin(); p != it->end(); ++p)
+        if (!p->is_array()) *p = as_draft7(*p, at + "/" + p.key());  // dependencies may list names
+    } else if (k == "items" || k == "allOf" || k == "anyOf" || k == "oneOf") {
+      if (it->is_array()) {
+        for (std::size_t i = 0; i < it->size(); ++i) (*it)[i] = as_draft7((*it)[i], at + "/" + std::to_string(i));
+      } else {
+        *it = as_draft7(*it, at);
       }
+    } else if (k == "additionalProperties" || k == "additionalItems" || k == "contains" || k == "propertyNames" ||
+               k == "not" || k == "if" || k == "then" || k == "else") {
+      *it = as_draft7(*it, at);
     }
-    if (v.is_array()) {
-      if (schema.contains("minItems") && v.size() < schema["minItems"].get<std::size_t>()) return false;
-      std::size_t prefix = schema.contains("prefixItems") ? schema["prefixItems"].size() : 0;
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        if (i < prefix) {
-          if (!check(schema["prefixItems"][i], v[i])) return false;
-        } else if (schema.contains("items") && !check(schema["items"], v[i])) {
-          return false;
-        }
-      }
-      if (schema.value("uniqueItems", false))
-        for (std::size_t i = 0; i < v.size(); ++i)
-          for (std::size_t j = i + 1; j < v.size(); ++j)
-            if (v[i] == v[j]) return false;
-    }
-    if (schema.contains("allOf"))
-      for (const json& s : schema["allOf"])
-        if (!check(s, v)) return false;
-    if (schema.contains("anyOf")) {
-      bool any = false;
-      for (const json& s : schema["anyOf"]) any = any || check(s, v);
-      if (!any) return false;
-    }
-    if (schema.contains("oneOf")) {
-      int n = 0;
-      for (const json& s : schema["oneOf"]) n += check(s, v) ? 1 : 0;
-      if (n != 1) return false;
-    }
-    if (schema.contains("not") && check(schema["not"], v)) return false;
-    if (schema.contains("if") && check(schema["if"], v) && schema.contains("then") && !check(schema["then"], v))
-      return false;
-    return true;
   }
-  json root_;
-};
+  return s;
+}
 
 json schema() { return read_json(kSource / "scenarios/schema.json"); }
+
+class SchemaValidator {
+ public:
+  explicit SchemaValidator(const json& schema_2020_12) : draft7_(as_draft7(schema_2020_12)) {
+    valijson::SchemaParser parser(valijson::SchemaParser::kDraft7);
+    valijson::adapters::NlohmannJsonAdapter adapter(draft7_);
+    parser.populateSchema(adapter, schema_);
+  }
+  bool valid(const json& doc) const {
+    valijson::Validator validator(valijson::Validator::kStrongTypes);
+    valijson::adapters::NlohmannJsonAdapter adapter(doc);
+    return validator.validate(schema_, adapter, nullptr);
+  }
+
+ private:
+  json draft7_;
+  valijson::Schema schema_;
+};
 
 std::vector<std::string> keys_of(const json& properties) {
   std::vector<std::string> k;
@@ -334,7 +321,7 @@ TEST(ScenarioSchema, KeysAndEnumsMatchTheParser) {
 // accepted by the parser exactly when the schema accepts them (except the
 // files whose error needs more than the document).
 TEST(ScenarioSchema, ParserAndSchemaAgreeOnEveryFile) {
-  MiniValidator v(schema());
+  const SchemaValidator v(schema());
   const std::set<std::string> beyond_schema = {"missing_scene_file.json", "unknown_light_name.json",
                                                "unknown_generator.json", "unknown_mesh_generator.json"};
   int n = 0;
@@ -364,7 +351,7 @@ TEST(ScenarioSchema, ParserAndSchemaAgreeOnEveryFile) {
 }
 
 TEST(ScenarioSchema, ParserAndSchemaAgreeOnMutations) {
-  MiniValidator v(schema());
+  const SchemaValidator v(schema());
   const gi::ScenarioKeys& K = gi::scenario_keys();
   int n = 0;
   auto agree = [&](const json& doc, const fs::path& f, const std::string& what) {
