@@ -26,4 +26,12 @@ class DeviceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// giharness's data folder (shaders, profiles; core/data_dir.h) not found:
+// exit code 3, since the installation is broken, not the user's input. The
+// message names every place tried.
+class DataDirError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace gi

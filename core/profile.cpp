@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "core/data_dir.h"
 #include "core/errors.h"
 #include "core/scenario.h"
 
@@ -94,7 +95,7 @@ json Profile::to_json() const {
 
 std::filesystem::path profile_dir() {
   if (const char* d = std::getenv("GIHARNESS_PROFILE_DIR"); d && *d) return d;
-  return std::filesystem::path(GIHARNESS_SOURCE_DIR) / "scenarios" / "profiles";
+  return data_dir() / "scenarios" / "profiles";
 }
 
 Profile load_profile(const std::string& name_or_file, const std::filesystem::path& dir) {

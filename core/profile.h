@@ -45,7 +45,8 @@ struct Profile {
   nlohmann::json to_json() const;
 };
 
-// The profiles folder: $GIHARNESS_PROFILE_DIR, else <source>/scenarios/profiles.
+// The profiles folder: $GIHARNESS_PROFILE_DIR, else <data_dir()>/scenarios/profiles
+// (core/data_dir.h).
 std::filesystem::path profile_dir();
 
 // Loads <dir>/<name>.json, or `name` itself when it names an existing .json

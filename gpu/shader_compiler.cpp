@@ -18,6 +18,7 @@
 #include <xxhash.h>
 
 #include "core/cache_root.h"
+#include "core/data_dir.h"
 #include "core/errors.h"
 
 namespace gi::gpu {
@@ -47,7 +48,7 @@ std::string defines_text(const std::vector<ShaderDefine>& defines) {
   return s;
 }
 
-// Resolves includes relative to the includer, then to the project root, and
+// Resolves includes relative to the includer, then to the data folder, and
 // remembers every file it handed out (name and content) for the cache key.
 class Includer : public glslang::TShader::Includer {
  public:
@@ -109,6 +110,14 @@ std::unique_ptr<glslang::TShader> make_shader(const std::string& source, const s
 
 std::string hex64(std::uint64_t v) { return fmt::format("{:016x}", v); }
 
+// An include's name in the cache key: relative to the data folder, so the
+// build tree, an installation and a moved installation share their cache
+// entries (the content is hashed beside it).
+std::string key_name(const std::string& file, const fs::path& root) {
+  const fs::path rel = fs::path(file).lexically_relative(root);
+  return rel.empty() || *rel.begin() == ".." ? file : rel.generic_string();
+}
+
 }  // namespace
 
 ShaderCompiler::ShaderCompiler(std::optional<fs::path> cache_dir)
@@ -127,7 +136,7 @@ std::string ShaderCompiler::compiler_version() {
 }
 
 CompiledShader ShaderCompiler::compile_file(const fs::path& path, const std::vector<ShaderDefine>& defines) {
-  fs::path full = path.is_absolute() ? path : fs::path(GIHARNESS_SOURCE_DIR) / path;
+  fs::path full = path.is_absolute() ? path : data_dir() / path;
   std::optional<std::string> source = read_text(full);
   if (!source) throw DeviceError(fmt::format("shader {}: cannot read {}", path.string(), full.string()));
   return compile_source(*source, full.lexically_normal().string(), defines);
@@ -137,7 +146,7 @@ CompiledShader ShaderCompiler::compile_source(const std::string& source, const s
                                               const std::vector<ShaderDefine>& own_defines) {
   std::vector<ShaderDefine> defines = global_defines_;
   defines.insert(defines.end(), own_defines.begin(), own_defines.end());
-  const fs::path root(GIHARNESS_SOURCE_DIR);
+  const fs::path& root = data_dir();
   const std::string name = fs::path(name_in).is_absolute() ? name_in : (root / name_in).lexically_normal().string();
   std::string preamble = "#extension GL_GOOGLE_include_directive : require\n";
   for (const auto& d : defines) preamble += "#define " + d.name + (d.value.empty() ? "" : " " + d.value) + "\n";
@@ -168,7 +177,7 @@ CompiledShader ShaderCompiler::compile_source(const std::string& source, const s
   feed(preamble);
   feed(source);
   for (const auto& [file, content] : pre_includer.files()) {
-    feed(file);
+    feed(key_name(file, root));
     feed(content);
   }
   const std::uint64_t key = XXH3_64bits_digest(state);

@@ -3,13 +3,16 @@
 // each with the defines it needs (Falcor-style programs from define lists).
 //
 // Includes (GL_GOOGLE_include_directive, enabled for every shader) resolve
-// relative to the including file, then to the project root, so a shader can
-// write #include "core/shared/brdf.h".
+// relative to the including file, then to the data folder (core/data_dir.h:
+// the source tree's layout, installed or not), so a shader can write
+// #include "core/shared/brdf.h".
 //
 // Cache: <cache_dir>/spirv/<XXH3-64 hex>.spv, keyed by the compiler version,
 // the defines and the fully resolved source (the main file and the content of
-// every file it includes, recursively). Files are written under a temporary
-// name and renamed into place, so concurrent runs never read half a file.
+// every file it includes, recursively, with its path relative to the data
+// folder, so an installation shares the build tree's entries). Files are
+// written under a temporary name and renamed into place, so concurrent runs
+// never read half a file.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -44,11 +47,11 @@ class ShaderCompiler {
   // glslang's version and the targets; part of every cache key.
   static std::string compiler_version();
 
-  // A compute shader file; a relative path is taken from the project root
-  // (GIHARNESS_SOURCE_DIR), e.g. "gpu/shaders/primary_visibility.comp".
+  // A compute shader file; a relative path is taken from the data folder
+  // (core/data_dir.h), e.g. "gpu/shaders/primary_visibility.comp".
   // Throws DeviceError with glslang's log and the defines on a compile error.
   CompiledShader compile_file(const std::filesystem::path& path, const std::vector<ShaderDefine>& defines = {});
-  // The same for source text; `name` (relative to the project root) anchors
+  // The same for source text; `name` (relative to the data folder) anchors
   // its relative includes and names it in messages.
   CompiledShader compile_source(const std::string& source, const std::string& name,
                                 const std::vector<ShaderDefine>& defines = {});

@@ -15,6 +15,7 @@
 #include <xxhash.h>
 
 #include "core/exr_io.h"
+#include "core/reference/reference_sources_hash.h"  // generated: core/reference/sources_hash.cmake
 #include "core/scene_flatten.h"
 
 namespace gi {
@@ -64,27 +65,6 @@ std::string hex64(std::uint64_t v) {
   return buf;
 }
 
-std::string compute_version() {
-  namespace fs = std::filesystem;
-  const fs::path root = GIHARNESS_SOURCE_DIR;
-  std::vector<fs::path> files;
-  std::error_code ec;
-  for (fs::directory_iterator it(root / "core" / "shared", ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().extension() == ".h") files.push_back(it->path());
-  if (ec || files.empty()) return {};
-  std::sort(files.begin(), files.end());
-  files.push_back(root / "core" / "reference" / "embree_reference.cpp");
-  files.push_back(root / "core" / "reference" / "embree_geometry.cpp");
-  Hasher h;
-  for (const fs::path& f : files) {
-    std::string text;
-    if (!read_file(f, text)) return {};
-    h.string(f.filename().string());
-    h.string(text);
-  }
-  return std::string(kReferenceTag) + "+embree-" + RTC_VERSION_STRING + "+src-" + hex64(h.digest());
-}
-
 std::filesystem::path temp_sibling(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};
   std::filesystem::path t = path;
@@ -119,7 +99,8 @@ bool load(const std::filesystem::path& exr, const std::filesystem::path& json_pa
 }  // namespace
 
 const std::string& reference_integrator_version() {
-  static const std::string version = compute_version();
+  static const std::string version =
+      std::string(kReferenceTag) + "+embree-" + RTC_VERSION_STRING + "+src-" + GIHARNESS_REFERENCE_SOURCES_HASH;
   return version;
 }
 
@@ -148,7 +129,6 @@ ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, 
                                  bool* hit) {
   if (hit) *hit = false;
   const std::string& version = reference_integrator_version();
-  if (version.empty()) return render_reference(scene, o);  // sources unreadable: no caching
 
   const std::uint64_t key = reference_cache_key(scene, o);
   const std::string stem = "reference-" + hex64(key);

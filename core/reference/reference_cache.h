@@ -12,10 +12,10 @@
 namespace gi {
 
 // The integrator version folded into every key: a fixed tag (bump it by hand
-// for changes outside the hashed files), the Embree version, and XXH3-64 of
-// the contents of core/shared/*.h and core/reference/embree_reference.cpp,
-// read at run time from GIHARNESS_SOURCE_DIR. Empty when those sources cannot
-// be read — then nothing is cached (a stale hit is worse than a re-render).
+// for changes outside the hashed files), the Embree version, and a hash of
+// core/shared/*.h and core/reference/embree_*.{h,cpp} taken at build time
+// (core/CMakeLists.txt, core/reference/sources_hash.cmake): the sources this
+// binary's integrator was compiled from, with no source tree at run time.
 const std::string& reference_integrator_version();
 
 // XXH3-64 over the flattened scene (geometry, instances, materials, lights,

@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/bvh/embree_ray_caster.h"
 #include "core/bvh/ray_sets.h"
+#include "core/data_dir.h"
 #include "core/errors.h"
 #include "core/gltf_import.h"
 #include "core/scene_flatten.h"
@@ -33,7 +34,7 @@ namespace {
 
 Scene bench_scene(const std::string& name, const BenchOptions& o) {
   if (name == "cornell_box") return make_cornell_box();
-  if (name == "glossy_room") return import_gltf(std::filesystem::path(GIHARNESS_SOURCE_DIR) / "scenarios/assets/glossy_room.gltf");
+  if (name == "glossy_room") return import_gltf(data_dir() / "scenarios/assets/glossy_room.gltf");
   if (name == "cliff") {
     CliffOptions c;
     c.triangles = o.cliff_triangles;

@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   } catch (const gi::InputError& e) {
     std::fprintf(stderr, "giharness: bad input: %s\n", e.what());
     return 2;
+  } catch (const gi::DataDirError& e) {
+    std::fprintf(stderr, "giharness: %s\n", e.what());  // names the data folder itself
+    return 3;
   } catch (const gi::DeviceError& e) {
     std::fprintf(stderr, "giharness: device error: %s\n", e.what());
     return 3;
