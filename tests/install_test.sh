@@ -14,7 +14,8 @@
 # compile included); from an empty folder, with GIHARNESS_SOURCE_DIR,
 # GIHARNESS_DATA_DIR and GIHARNESS_PROFILE_DIR unset, a 32x18 realtime
 # Cornell box with GI (DI, world cache, ReSTIR GI shaders) runs 2 frames, the finite check passes, and the profile it
-# loaded lies in the installed tree; a copy of the binary with no data folder
+# loaded lies in the installed tree (as root the source tree is hidden under
+# an empty tmpfs for that run); a copy of the binary with no data folder
 # beside it, or pointed at a wrong GIHARNESS_DATA_DIR, exits 3 naming where
 # it looked. Nothing is copied from SOURCE_DIR.
 set -euo pipefail
@@ -77,14 +78,28 @@ cat > "$work/smoke.json" <<'EOF'
 }
 EOF
 clean_env=(env -u GIHARNESS_SOURCE_DIR -u GIHARNESS_DATA_DIR -u GIHARNESS_PROFILE_DIR)
+# Where allowed (root), the source tree is really gone for this run: an empty
+# tmpfs over it in a private mount namespace, which no other process sees.
+hide=()
+case "$bin/ $work/" in
+  *"$source_dir/"*) ;;  # the binary or the scratch folder lies inside it: cannot hide
+  *) if unshare -m true 2> /dev/null; then
+       hide=(unshare -m sh -c 'mount -t tmpfs none "$0" && exec "$@"' "$source_dir")
+     fi ;;
+esac
+if [ ${#hide[@]} -gt 0 ] && [ -z "$("${hide[@]}" ls -A "$source_dir")" ]; then
+  tree="hidden under an empty tmpfs"
+else
+  hide=(); tree="visible (no mount namespace here; the strings check stands alone)"
+fi
 rc=0
-(cd "$work/empty" && "${clean_env[@]}" "$bin" run "$work/smoke.json" --out "$work/out") > "$work/run.log" 2>&1 || rc=$?
+(cd "$work/empty" && "${hide[@]}" "${clean_env[@]}" "$bin" run "$work/smoke.json" --out "$work/out") > "$work/run.log" 2>&1 || rc=$?
 [ $rc -eq 0 ] || { tail -20 "$work/run.log" >&2; fail "the installed binary's run exited $rc"; }
 # Exit 0 means every check passed; make sure the finite check was one.
 grep -q '"name": *"finite"' "$work/out/summary.json" || fail "no finite check in $work/out/summary.json"
 profile=$(grep -o '"file": *"[^"]*solari-0.18.json"' "$work/out/summary.json" | head -1 | sed 's/.*: *"//; s/"$//')
 case "$profile" in
-  "$data"/*) echo "run: exit 0, profile read from $profile" ;;
+  "$data"/*) echo "run: exit 0, profile read from $profile, source tree $tree" ;;
   *) fail "the run read its profile from '$profile', not from $data" ;;
 esac
 
