@@ -230,6 +230,27 @@ Image Renderer::reference_mean() const {
   return img;
 }
 
+namespace {
+
+Image add(Image a, const Image& b) {
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] += b.pixels[i];
+  return a;
+}
+
+}  // namespace
+
+Image Renderer::realtime_frame(std::uint32_t chain) const {
+  Image img = di().frame(chain);
+  if (has_gi()) img = add(add(std::move(img), gi().gi_frame(chain)), gi().specular_frame(chain));
+  return img;
+}
+
+Image Renderer::realtime_mean(std::uint32_t chain) const {
+  Image img = di().mean(chain);
+  if (has_gi()) img = add(add(std::move(img), gi().gi_mean(chain)), gi().specular_mean(chain));
+  return img;
+}
+
 Image Renderer::reference_half(int which) const {
   require(options_.reference, "the reference");
   if (which != 0 && which != 1) throw std::invalid_argument("reference_half: which must be 0 (A) or 1 (B)");

@@ -80,6 +80,10 @@ class Renderer {
   const GiPipeline& gi() const;
   bool has_gi() const { return gi_.has_value(); }
   Image cache_view() const { return world_cache().view(); }
+  // The realtime output of one chain: DI, plus GI and specular when GI runs;
+  // this frame's, or the temporal mean over the accumulation window.
+  Image realtime_frame(std::uint32_t chain) const;
+  Image realtime_mean(std::uint32_t chain) const;
 
   Image reference_mean() const;             // (A + B) / (nA + nB)
   Image reference_half(int which) const;    // 0 = A (even sample indices), 1 = B (odd), each its own mean

@@ -222,13 +222,8 @@ void FrameLoop::run() {
 // signals' figures are on one scale.
 nlohmann::json FrameLoop::chain_noise_figures(std::uint32_t frame) const {
   const gpu::Renderer& r = *renderer_;
-  auto output_mean = [&](std::uint32_t chain) {
-    Image img = r.di().mean(chain);
-    if (setup_.gi) img = sum_images(sum_images(img, r.gi().gi_mean(chain)), r.gi().specular_mean(chain));
-    return img;
-  };
-  Image mean = output_mean(0);
-  const Image mean_b = output_mean(1);
+  Image mean = r.realtime_mean(0);
+  const Image mean_b = r.realtime_mean(1);
   for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (mean.pixels[i] + mean_b.pixels[i]);
   // Each chain's signals, read back once.
   std::map<std::string, Image> a, b;
@@ -253,14 +248,9 @@ nlohmann::json FrameLoop::chain_noise_figures(std::uint32_t frame) const {
 // Everything a replay needs to rebuild this run (replay/capture.h).
 void FrameLoop::capture(std::uint32_t frame) {
   const gpu::Renderer& r = *renderer_;
-  auto chain_frame = [&](std::uint32_t chain) {
-    Image img = r.di().frame(chain);
-    if (setup_.gi) img = sum_images(sum_images(img, r.gi().gi_frame(chain)), r.gi().specular_frame(chain));
-    return img;
-  };
   // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
-  const Image a = setup_.realtime ? chain_frame(0) : r.reference_half(0);
-  const Image b = setup_.realtime ? chain_frame(r.di().settings().chains - 1) : r.reference_half(1);
+  const Image a = setup_.realtime ? r.realtime_frame(0) : r.reference_half(0);
+  const Image b = setup_.realtime ? r.realtime_frame(r.di().settings().chains - 1) : r.reference_half(1);
   std::vector<Image> layers;
   const std::vector<std::string> names = {"albedo", "normal", "depth", "motion"};
   for (const std::string& n : names) layers.push_back(r.gbuffer_layer(n));

@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/errors.h"
-#include "core/reference/embree_geometry.h"
+#include "core/reference/embree_bridge.h"
 #include "core/shared/brdf.h"
 #include "core/shared/rng.h"
 #include "core/shared/sampling.h"
@@ -16,69 +16,6 @@
 
 namespace gi::shader {
 namespace {
-
-// The scene accessors and Embree ray casts the shared integrator needs, as
-// in embree_reference.cpp (its bridge is private to that file).
-struct IrradianceBridge {
-  const GpuInstance* instances = nullptr;
-  const GpuMaterial* materials = nullptr;
-  const GpuVertex* vertices = nullptr;
-  const uint* indices = nullptr;
-  const GpuLight* lights = nullptr;
-  uint light_count = 0;
-  uint directional_count = 0;
-  RTCScene rtc = nullptr;
-
-  GpuInstance scene_instance(uint i) const { return instances[i]; }
-  GpuMaterial scene_material(uint i) const { return materials[i]; }
-  GpuVertex scene_vertex(uint i) const { return vertices[i]; }
-  uint scene_index(uint i) const { return indices[i]; }
-  GpuLight scene_light(uint i) const { return lights[i]; }
-  uint scene_light_count() const { return light_count; }
-  uint scene_directional_light_count() const { return directional_count; }
-
-  bool trace_closest(vec3 origin, vec3 dir, float tmax, Hit& hit) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = origin.x;
-    rh.ray.org_y = origin.y;
-    rh.ray.org_z = origin.z;
-    rh.ray.dir_x = dir.x;
-    rh.ray.dir_y = dir.y;
-    rh.ray.dir_z = dir.z;
-    rh.ray.tfar = tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc, &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit.t = rh.ray.tfar;
-    hit.instance = rh.hit.geomID;
-    hit.primitive = rh.hit.primID;
-    hit.barycentrics = vec2(rh.hit.u, rh.hit.v);
-    return true;
-  }
-
-  bool trace_unoccluded(vec3 origin, vec3 dir, float tmax) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = origin.x;
-    ray.org_y = origin.y;
-    ray.org_z = origin.z;
-    ray.dir_x = dir.x;
-    ray.dir_y = dir.y;
-    ray.dir_z = dir.z;
-    ray.tfar = tmax;
-    ray.mask = 0xFFFFFFFFu;
-    rtcOccluded1(rtc, &context, &ray);
-    return !(ray.tfar < 0.0f);
-  }
-
-#include "core/shared/scene_access.h"
-#include "core/shared/path_integrator.h"
-};
 
 // Irradiance estimates use their own stream, apart from the images'.
 constexpr uint RNG_DOMAIN_EMBREE_IRRADIANCE = 0xC2B2AE35u;
@@ -91,37 +28,14 @@ namespace gi {
 std::vector<glm::vec3> embree_irradiance(const FlatGeometry& g, const FlatInstances& f,
                                          const std::vector<std::uint8_t>& visible,
                                          const std::vector<IrradiancePoint>& points, const IrradianceOptions& o) {
-  RTCDevice device = rtcNewDevice(nullptr);
-  if (!device) throw DeviceError("Embree: rtcNewDevice failed");
-  RTCScene scene = rtcNewScene(device);
-  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-  for (std::uint32_t i = 0; i < f.instances.size(); ++i) {
-    if (i >= visible.size() || !visible[i] || f.instances[i].triangle_count == 0) continue;
-    if (!attach_instance_geometry(device, scene, g, f.instances[i], i)) {
-      rtcReleaseScene(scene);
-      rtcReleaseDevice(device);
-      throw DeviceError("Embree: cannot allocate buffers");
-    }
-  }
-  tbb::task_arena serial(1);  // the BVH (and ties between equal hits) independent of threads
-  serial.execute([&] { rtcCommitScene(scene); });
-
-  shader::IrradianceBridge proto;
-  proto.instances = f.instances.data();
-  proto.materials = f.materials.data();
-  proto.vertices = g.vertices.data();
-  proto.indices = g.indices.data();
-  proto.lights = f.lights.data();
-  proto.light_count = static_cast<std::uint32_t>(f.lights.size());
-  proto.directional_count = f.directional_light_count;
-  proto.rtc = scene;
+  const EmbreeScene embree(g, f, visible);
+  const shader::EmbreeBridge proto = shader::EmbreeBridge::over(g, f, embree.scene());
 
   std::vector<glm::vec3> out(points.size(), glm::vec3(0.0f));
   tbb::task_arena arena(o.threads ? int(o.threads) : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-      shader::IrradianceBridge bridge = proto;
+      shader::EmbreeBridge bridge = proto;
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
         const IrradiancePoint& p = points[i];
         const glm::vec3 origin = bridge.offset_ray_origin(p.position, p.normal);
@@ -137,8 +51,6 @@ std::vector<glm::vec3> embree_irradiance(const FlatGeometry& g, const FlatInstan
       }
     });
   });
-  rtcReleaseScene(scene);
-  rtcReleaseDevice(device);
   return out;
 }
 

@@ -33,7 +33,7 @@ class FiniteCheck final : public Check {
       window_samples_ = samples;
     }
     std::uint64_t gi = 0;
-    if (const gpu::GiFrameStats* s = f.gi_stats()) gi = std::uint64_t(s->nonfinite_reservoirs) + s->nonfinite_output;
+    if (has_gi_) gi = std::uint64_t(f.gi_stats()->nonfinite_reservoirs) + f.gi_stats()->nonfinite_output;
     gi_values_ += gi;
     if ((f.nonfinite_pixels() > 0 || samples > 0 || gi > 0) && !first_) first_ = f.frame();
   }

@@ -52,30 +52,15 @@ const std::vector<std::uint32_t>& FrameView::cluster_table() const {
   return data_.renderer->cluster_table();
 }
 
-namespace {
-
-Image sum(Image a, const Image& b) {
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] += b.pixels[i];
-  return a;
-}
-
-}  // namespace
-
 bool FrameView::full_gi() const { return data_.renderer->has_gi(); }
 
 Image FrameView::chain_frame(std::uint32_t chain) const {
   require(FrameInput::chains, "a chain's frame");
-  const gpu::Renderer& r = *data_.renderer;
-  Image img = r.di().frame(chain);
-  if (r.has_gi()) img = sum(sum(img, r.gi().gi_frame(chain)), r.gi().specular_frame(chain));
-  return img;
+  return data_.renderer->realtime_frame(chain);
 }
 Image FrameView::chain_mean(std::uint32_t chain) const {
   require(FrameInput::chains, "a chain's temporal mean");
-  const gpu::Renderer& r = *data_.renderer;
-  Image img = r.di().mean(chain);
-  if (r.has_gi()) img = sum(sum(img, r.gi().gi_mean(chain)), r.gi().specular_mean(chain));
-  return img;
+  return data_.renderer->realtime_mean(chain);
 }
 std::uint32_t FrameView::chain_window_frames() const {
   require(FrameInput::chains, "the chains' window");

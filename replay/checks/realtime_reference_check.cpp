@@ -22,7 +22,7 @@ Image average(const Image& a, const Image& b) {
 
 // One chain's frame against the reference: compare() treats (a, b) as halves
 // of the mean (a+b)/2; a single chain has twice that noise variance.
-Comparison single_chain(const Image& a, const Image& b, const ReferenceResult& ref) {
+Comparison single_chain(const Image& a, const Image& b, const ReferenceComparisons::Reference& ref) {
   Comparison c = compare(a, a, b, ref.mean, ref.half_a, ref.half_b);
   c.noise_x *= 2.0;
   c.combined_noise = c.noise_x + c.noise_y;
@@ -73,24 +73,8 @@ double edge_region_relmse(const Image& x, const Image& y) {
   return n ? sum / double(n) : 0.0;
 }
 
-RealtimeReferenceCheck::RealtimeReferenceCheck(ReferenceCheckParams params, std::uint32_t seed,
-                                               std::filesystem::path cache_dir, std::filesystem::path out_dir)
-    : params_(std::move(params)), seed_(seed), cache_dir_(std::move(cache_dir)), out_dir_(std::move(out_dir)) {}
-
-bool RealtimeReferenceCheck::wants(std::uint32_t frame) const {
-  return std::find(params_.frames.begin(), params_.frames.end(), frame) != params_.frames.end();
-}
-
 void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu) {
-  ReferenceOptions options;
-  options.width = gpu.frame_a.width;
-  options.height = gpu.frame_a.height;
-  options.spp = params_.spp;
-  options.seed = seed_;
-  options.direct_only = !gpu.full_gi;
-  bool hit = false;
-  const ReferenceResult ref = cached_reference(scene, options, cache_dir_, &hit);
-
+  const Reference ref = reference(scene, gpu.frame_a.width, gpu.frame_a.height, !gpu.full_gi);
   FrameComparison f;
   f.frame = frame;
   f.window_start = gpu.window_start;
@@ -102,7 +86,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   f.verdict = f.temporal.judge(params_.relmse_noise_factor, params_.energy_tolerance, params_.relmse_tolerance);
   f.temporal_edge_relmse = edge_region_relmse(mean, ref.mean);
   f.reference_seconds = ref.seconds;
-  f.reference_cached = hit;
+  f.reference_cached = ref.cached;
   f.evidence = fmt::format("reference/frame_{:05}.exr", frame);
   write_exr(out_dir_ / f.evidence,
             {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frame_a}, {gpu.full_gi ? "embree_full_gi" : "embree_di", &ref.mean}});
@@ -110,21 +94,11 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
 }
 
 CheckResult RealtimeReferenceCheck::result() const {
-  CheckResult r;
-  r.name = "reference";
-  r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
-              {"energy_tolerance", params_.energy_tolerance},
-              {"relmse_tolerance", params_.relmse_tolerance},
-              {"warmup_frames", params_.warmup_frames},
-              {"reference_spp", params_.spp},
-              {"judged_on", "temporal mean over the static window (two independent chains as halves)"}};
-  if (frames_.empty()) {
-    r.verdict = Verdict::inconclusive;
-    r.message = "no frame was compared";
-    return r;
-  }
-  bool any_fail = false, any_inconclusive = false;
-  std::string first_problem;
+  CheckResult r = start_result();
+  r.limits["warmup_frames"] = params_.warmup_frames;
+  r.limits["judged_on"] = "temporal mean over the static window (two independent chains as halves)";
+  if (frames_.empty()) return r;
+  Tally tally;
   nlohmann::json list = nlohmann::json::array();
   for (const FrameComparison& f : frames_) {
     list.push_back({{"frame", f.frame},
@@ -135,29 +109,25 @@ CheckResult RealtimeReferenceCheck::result() const {
                     {"per_frame", comparison_json(f.per_frame)},
                     {"reference_seconds", json_figure(f.reference_seconds)},
                     {"reference_cached", f.reference_cached},
-                    {"verdict", f.verdict.passed ? "pass" : (f.verdict.inconclusive ? "inconclusive" : "fail")},
+                    {"verdict", verdict_name(f.verdict)},
                     {"reason", f.verdict.reason}});
     r.evidence.push_back(f.evidence);
-    if (!f.verdict.passed && first_problem.empty())
-      first_problem = fmt::format("frame {} (temporal mean of {} frames): {}; measured energy ratio {:.4f} "
+    tally.add(f.frame, f.verdict,
+              fmt::format("frame {} (temporal mean of {} frames): {}; measured energy ratio {:.4f} "
                                   "(1 sigma {:.2g}), relMSE {:.3g} = {:.2f}x combined noise",
                                   f.frame, f.window_frames, f.verdict.reason, f.temporal.energy_ratio,
-                                  f.temporal.energy_ratio_sigma, f.temporal.relmse, f.temporal.relmse_over_noise);
-    if (!f.verdict.passed && !f.verdict.inconclusive) {
-      if (!any_fail) r.first_failing_frame = f.frame;
-      any_fail = true;
-    }
-    any_inconclusive = any_inconclusive || f.verdict.inconclusive;
+                                  f.temporal.energy_ratio_sigma, f.temporal.relmse, f.temporal.relmse_over_noise),
+              r);
   }
   r.figures["frames"] = list;
   const FrameComparison& last = frames_.back();
-  r.verdict = any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
+  r.verdict = tally.verdict();
   r.message = r.verdict == Verdict::pass
                   ? fmt::format("frame {}: {} temporal mean of {} frames: relMSE {:.3g} = {:.2f}x combined noise "
                                 "{:.3g}; energy ratio {:.4f}; per frame relMSE {:.3g}",
                                 last.frame, last.full_gi ? "full-image" : "DI", last.window_frames, last.temporal.relmse, last.temporal.relmse_over_noise,
                                 last.temporal.combined_noise, last.temporal.energy_ratio, last.per_frame.relmse)
-                  : first_problem;
+                  : tally.first_problem;
   return r;
 }
 

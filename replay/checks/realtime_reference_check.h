@@ -40,12 +40,9 @@ struct RealtimeEstimate {
 // 7×7 neighbourhood in the reference spans a luminance ratio above 2.
 double edge_region_relmse(const Image& x, const Image& reference);
 
-class RealtimeReferenceCheck {
+class RealtimeReferenceCheck : public ReferenceComparisons {
  public:
-  RealtimeReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
-                         std::filesystem::path out_dir);
-  const ReferenceCheckParams& params() const { return params_; }
-  bool wants(std::uint32_t frame) const;
+  using ReferenceComparisons::ReferenceComparisons;
   void compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu);
   CheckResult result() const;
 
@@ -59,9 +56,6 @@ class RealtimeReferenceCheck {
     bool reference_cached, full_gi;
     std::string evidence;
   };
-  ReferenceCheckParams params_;
-  std::uint32_t seed_;
-  std::filesystem::path cache_dir_, out_dir_;
   std::vector<FrameComparison> frames_;
 };
 

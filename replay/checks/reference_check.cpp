@@ -72,23 +72,63 @@ ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenari
   return p;
 }
 
-ReferenceCheck::ReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
-                               std::filesystem::path out_dir)
+ReferenceComparisons::ReferenceComparisons(ReferenceCheckParams params, std::uint32_t seed,
+                                           std::filesystem::path cache_dir, std::filesystem::path out_dir)
     : params_(std::move(params)), seed_(seed), cache_dir_(std::move(cache_dir)), out_dir_(std::move(out_dir)) {}
 
-bool ReferenceCheck::wants(std::uint32_t frame) const {
+bool ReferenceComparisons::wants(std::uint32_t frame) const {
   return std::find(params_.frames.begin(), params_.frames.end(), frame) != params_.frames.end();
 }
 
-void ReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const GpuEstimate& gpu) {
+ReferenceComparisons::Reference ReferenceComparisons::reference(const Scene& scene, std::uint32_t width,
+                                                                std::uint32_t height, bool direct_only) const {
   ReferenceOptions options;
-  options.width = gpu.mean.width;
-  options.height = gpu.mean.height;
+  options.width = width;
+  options.height = height;
   options.spp = params_.spp;
   options.seed = seed_;
-  bool hit = false;
-  const ReferenceResult ref = cached_reference(scene, options, cache_dir_, &hit);
+  options.direct_only = direct_only;
+  Reference r;
+  ReferenceResult result = cached_reference(scene, options, cache_dir_, &r.cached);
+  r.mean = std::move(result.mean);
+  r.half_a = std::move(result.half_a);
+  r.half_b = std::move(result.half_b);
+  r.seconds = result.seconds;
+  return r;
+}
 
+void ReferenceComparisons::Tally::add(std::uint32_t frame, const ComparisonVerdict& verdict,
+                                      const std::string& problem, CheckResult& r) {
+  if (!verdict.passed && first_problem.empty()) first_problem = problem;
+  if (!verdict.passed && !verdict.inconclusive) {
+    if (!any_fail) r.first_failing_frame = frame;
+    any_fail = true;
+  }
+  any_inconclusive = any_inconclusive || verdict.inconclusive;
+}
+
+Verdict ReferenceComparisons::Tally::verdict() const {
+  return any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
+}
+
+CheckResult ReferenceComparisons::start_result() const {
+  CheckResult r;
+  r.name = "reference";
+  r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
+              {"energy_tolerance", params_.energy_tolerance},
+              {"relmse_tolerance", params_.relmse_tolerance},
+              {"reference_spp", params_.spp}};
+  r.verdict = Verdict::inconclusive;
+  r.message = "no frame was compared";
+  return r;
+}
+
+const char* verdict_name(const ComparisonVerdict& v) {
+  return v.passed ? "pass" : (v.inconclusive ? "inconclusive" : "fail");
+}
+
+void ReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const GpuEstimate& gpu) {
+  const Reference ref = reference(scene, gpu.mean.width, gpu.mean.height, false);
   FrameComparison c;
   c.frame = frame;
   c.comparison = compare(gpu.mean, gpu.half_a, gpu.half_b, ref.mean, ref.half_a, ref.half_b);
@@ -96,7 +136,7 @@ void ReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, cons
   c.gpu_samples = gpu.samples;
   c.reference_spp = params_.spp;
   c.reference_seconds = ref.seconds;
-  c.reference_cached = hit;
+  c.reference_cached = ref.cached;
   c.evidence = fmt::format("reference/frame_{:05}.exr", frame);
   const Image error = error_map(gpu.mean, ref.mean);
   write_exr(out_dir_ / c.evidence, {{"gpu", &gpu.mean}, {"embree", &ref.mean}, {"error", &error}});
@@ -104,20 +144,10 @@ void ReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, cons
 }
 
 CheckResult ReferenceCheck::result() const {
-  CheckResult r;
-  r.name = "reference";
-  r.limits = {{"relmse_noise_factor", params_.relmse_noise_factor},
-              {"energy_tolerance", params_.energy_tolerance},
-              {"relmse_tolerance", params_.relmse_tolerance},
-              {"reference_spp", params_.spp}};
-  if (frames_.empty()) {
-    r.verdict = Verdict::inconclusive;
-    r.message = "no frame was compared";
-    return r;
-  }
-  bool any_fail = false, any_inconclusive = false;
+  CheckResult r = start_result();
+  if (frames_.empty()) return r;
+  Tally tally;
   nlohmann::json per_frame = nlohmann::json::array();
-  std::string first_problem;
   for (const FrameComparison& f : frames_) {
     const Comparison& c = f.comparison;
     per_frame.push_back({{"frame", f.frame},
@@ -137,25 +167,19 @@ CheckResult ReferenceCheck::result() const {
                          {"reference_spp", f.reference_spp},
                          {"reference_seconds", json_figure(f.reference_seconds)},
                          {"reference_cached", f.reference_cached},
-                         {"verdict", f.verdict.passed ? "pass" : (f.verdict.inconclusive ? "inconclusive" : "fail")},
+                         {"verdict", verdict_name(f.verdict)},
                          {"reason", f.verdict.reason}});
     r.evidence.push_back(f.evidence);
-    if (!f.verdict.passed && first_problem.empty())
-      first_problem = fmt::format("frame {}: {}", f.frame, f.verdict.reason);
-    if (!f.verdict.passed && !f.verdict.inconclusive) {
-      if (!any_fail) r.first_failing_frame = f.frame;
-      any_fail = true;
-    }
-    if (f.verdict.inconclusive) any_inconclusive = true;
+    tally.add(f.frame, f.verdict, fmt::format("frame {}: {}", f.frame, f.verdict.reason), r);
   }
   r.figures["frames"] = per_frame;
   const Comparison& last = frames_.back().comparison;
-  r.verdict = any_fail ? Verdict::fail : (any_inconclusive ? Verdict::inconclusive : Verdict::pass);
+  r.verdict = tally.verdict();
   r.message = r.verdict == Verdict::pass
                   ? fmt::format("frame {}: relMSE {:.3g} = {:.2f}x combined noise {:.3g}; energy ratio {:.4f}",
                                 frames_.back().frame, last.relmse, last.relmse_over_noise, last.combined_noise,
                                 last.energy_ratio)
-                  : first_problem;
+                  : tally.first_problem;
   return r;
 }
 

@@ -36,12 +36,47 @@ struct GpuEstimate {
   std::uint64_t samples = 0;  // per pixel, in the accumulation window
 };
 
-class ReferenceCheck {
+// What the reference check of both modes shares: the parameters, the
+// Embree reference of a compared frame's scene (rendered, or loaded from
+// the cache), and the verdict folded over the compared frames.
+class ReferenceComparisons {
  public:
-  ReferenceCheck(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
-                 std::filesystem::path out_dir);
+  ReferenceComparisons(ReferenceCheckParams params, std::uint32_t seed, std::filesystem::path cache_dir,
+                       std::filesystem::path out_dir);
   const ReferenceCheckParams& params() const { return params_; }
   bool wants(std::uint32_t frame) const;
+  struct Reference {
+    Image mean, half_a, half_b;
+    double seconds = 0.0;
+    bool cached = false;
+  };
+
+ protected:
+  // Embree's image of `scene` at the check's spp and seed (direct lighting
+  // only, or the full path tracer).
+  Reference reference(const Scene& scene, std::uint32_t width, std::uint32_t height, bool direct_only) const;
+  // The verdict over the compared frames, in order.
+  struct Tally {
+    bool any_fail = false, any_inconclusive = false;
+    std::string first_problem;
+    // One compared frame; `problem` describes it when it did not pass.
+    void add(std::uint32_t frame, const ComparisonVerdict& verdict, const std::string& problem, CheckResult& r);
+    Verdict verdict() const;
+  };
+  // name "reference", the limits, and the inconclusive verdict when no frame was compared.
+  CheckResult start_result() const;
+
+  ReferenceCheckParams params_;
+  std::uint32_t seed_;
+  std::filesystem::path cache_dir_, out_dir_;
+};
+
+// A frame's verdict as the summary spells it.
+const char* verdict_name(const ComparisonVerdict& v);
+
+class ReferenceCheck : public ReferenceComparisons {
+ public:
+  using ReferenceComparisons::ReferenceComparisons;
   // Renders (or loads) the Embree image of `scene` and compares; writes
   // reference/frame_NNNNN.exr (gpu, embree, error layers) as evidence.
   void compare_frame(std::uint32_t frame, const Scene& scene, const GpuEstimate& gpu);
@@ -58,9 +93,6 @@ class ReferenceCheck {
     bool reference_cached;
     std::string evidence;
   };
-  ReferenceCheckParams params_;
-  std::uint32_t seed_;
-  std::filesystem::path cache_dir_, out_dir_;
   std::vector<FrameComparison> frames_;
 };
 
