@@ -135,19 +135,59 @@ const CheckResult& check(const RunResult& r, const std::string& name) {
   throw std::runtime_error("no check " + name);
 }
 
-TEST(CacheChecksScenario, ClosedRoom018PassesAndFixedBlendLags) {
-  const RunResult good = run("cache_light_toggle_closed_room.json", {}, "room_018");
-  EXPECT_EQ(check(good, "cache_lifetime").verdict, Verdict::pass) << check(good, "cache_lifetime").message;
-  EXPECT_EQ(check(good, "blend_lag").verdict, Verdict::pass) << check(good, "blend_lag").message;
-  const RunResult fixed = run("cache_light_toggle_closed_room.json", {"world_cache.blend=fixed", "world_cache.max_samples=20"},
-                              "room_fixed");
+// blend_lag's lag per lighting event (frames until cache_mean_radiance stays
+// within ε of its new level), in event order.
+std::vector<int> event_lags(const CheckResult& lag) {
+  std::vector<int> lags;
+  for (const nlohmann::json& e : lag.figures["events"]) lags.push_back(e["lag_frames"].get<int>());
+  return lags;
+}
+
+// The two light-toggle scenarios under 0.18 and under 0.17's fixed blend
+// (blend=fixed, max_samples=20). Their lags (cache_mean_radiance, ε 5 %),
+// measured with this 2^16-cell table on lavapipe, 2026-12-02, bit-identical
+// across runs (the tests print them):
+//
+//   scenario (lag_limit)  0.18 adaptive, light off / on   fixed blend
+//   closed room (90)      62 / 78                         104 / 104
+//   sunlit yard (35)      22 / 27                         46 / 46
+//
+// The bounds:
+// - 0.18 passes: the check's own verdict against the scenario's lag_limit,
+//   which the scenario puts between the adaptive and the fixed blend's lags
+//   (its description has the 0.17/0.18/0.19 figures).
+// - The fixed blend fails for its lag, not for δ: its largest lag is above
+//   the same lag_limit, read from the check's limits (by 14 frames in the
+//   room, 11 in the yard).
+// - At each event the fixed blend lags the adaptive one, which is what the
+//   adaptive blend is for (room: by 42 and 26 frames, yard: 24 and 19).
+// A lone 1/20 blend leaves 0.95^n of a step: within 5 % of a step to nearly
+// zero from n = ln 0.05 / ln 0.95 = 58 frames. The room takes longer (104):
+// light cannot leave it and the cache samples itself, so bounced light
+// fades with the cells it comes from. The yard is quicker (46): light
+// escapes to the sky (a smaller step relative to the level, 88 % instead
+// of 97 %), and a cell below the 20-sample cap blends 1/(samples + 1).
+void expect_adaptive_passes_and_fixed_lags(const RunResult& adaptive, const RunResult& fixed) {
+  EXPECT_EQ(check(adaptive, "cache_lifetime").verdict, Verdict::pass) << check(adaptive, "cache_lifetime").message;
+  const CheckResult& good = check(adaptive, "blend_lag");
+  EXPECT_EQ(good.verdict, Verdict::pass) << good.message;
   const CheckResult& lag = check(fixed, "blend_lag");
   EXPECT_EQ(lag.verdict, Verdict::fail);
   EXPECT_NE(lag.message.find("frames"), std::string::npos) << lag.message;
-  // The scenario's limit; measured 104 / 104 frames (0.18: 62 / 78).
-  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 90) << lag.message;
+  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), lag.limits["lag_frames"].get<int>()) << lag.message;
+  const std::vector<int> a = event_lags(good), f = event_lags(lag);
+  ASSERT_EQ(a.size(), 2u) << good.figures.dump();  // light off, light on
+  ASSERT_EQ(f.size(), 2u) << lag.figures.dump();
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_GT(f[i], a[i]) << "event " << i;
+}
+
+TEST(CacheChecksScenario, ClosedRoom018PassesAndFixedBlendLags) {
+  const RunResult good = run("cache_light_toggle_closed_room.json", {}, "room_018");
+  const RunResult fixed = run("cache_light_toggle_closed_room.json", {"world_cache.blend=fixed", "world_cache.max_samples=20"},
+                              "room_fixed");
+  expect_adaptive_passes_and_fixed_lags(good, fixed);
   std::cout << "closed room lag, 0.18: " << check(good, "blend_lag").figures["events"].dump() << "\n"
-            << "closed room lag, fixed blend: " << lag.figures["events"].dump() << "\n";
+            << "closed room lag, fixed blend: " << check(fixed, "blend_lag").figures["events"].dump() << "\n";
 }
 
 TEST(CacheChecksScenario, Sweep018PassesAndFullLifetimeRuleFails) {
@@ -165,16 +205,11 @@ TEST(CacheChecksScenario, Sweep018PassesAndFullLifetimeRuleFails) {
 
 TEST(CacheChecksScenario, Yard018PassesAndFixedBlendLags) {
   const RunResult good = run("cache_light_toggle_yard.json", {}, "yard_018");
-  EXPECT_EQ(check(good, "cache_lifetime").verdict, Verdict::pass) << check(good, "cache_lifetime").message;
-  EXPECT_EQ(check(good, "blend_lag").verdict, Verdict::pass) << check(good, "blend_lag").message;
   const RunResult fixed = run("cache_light_toggle_yard.json", {"world_cache.blend=fixed", "world_cache.max_samples=20"},
                               "yard_fixed");
-  const CheckResult& lag = check(fixed, "blend_lag");
-  EXPECT_EQ(lag.verdict, Verdict::fail);
-  // The scenario's limit; 0.18 measured 22 / 27 frames.
-  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 35) << lag.message;
+  expect_adaptive_passes_and_fixed_lags(good, fixed);
   std::cout << "yard lag, 0.18: " << check(good, "blend_lag").figures["events"].dump() << "\n"
-            << "yard lag, fixed blend: " << lag.figures["events"].dump() << "\n";
+            << "yard lag, fixed blend: " << check(fixed, "blend_lag").figures["events"].dump() << "\n";
 }
 
 // The cache view (a cache query at every primary surface, Bevy's debug
@@ -245,9 +280,16 @@ TEST(CacheView, SignalsAndChecksThatNeedAFedCacheAreRefused) {
   }
 }
 
-// The expected failure (a finding about 0.18's adaptive blend with few
-// cells), run as the nightly would with its own 2^20-cell table: blend_lag
-// must fail on it, cache_lifetime pass. Measured 59 / 107 frames, 5.6 %.
+// The expected failure scenarios/expected_failures/cache_light_toggle_cornell_0_18_noise.json
+// (a finding about 0.18's adaptive blend with few cells), run as the nightly
+// would, with its own 2^20-cell table (about 40 s on lavapipe): what its
+// description documents must still hold. Measured on lavapipe, 2026-12-02,
+// seed 12: 75 live cells at most (the closed room keeps 1446); cache_mean_radiance
+// settles 59 frames after light-off (within the limit of 80) but 107 after
+// light-on, and jumps 5.62 % in one frame at frame 317 (δ 4 %). The bounds are
+// the check's own (lag_limit and δ, read from its limits), applied to the
+// event each failure is documented for; the cell bound is twice the measured
+// count, an order of magnitude below the room's.
 TEST(CacheChecksScenario, OpenCornellBoxExpectedFailureFailsBlendLag) {
   static test::TempDir dir("cache_cornell_noise");
   RunOptions o;
@@ -256,11 +298,20 @@ TEST(CacheChecksScenario, OpenCornellBoxExpectedFailureFailsBlendLag) {
   const RunResult r = run_scenario(
       load_scenario(test::source_dir() / "scenarios/expected_failures/cache_light_toggle_cornell_0_18_noise.json"), o);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(check(r, "cache_lifetime").verdict, Verdict::pass) << check(r, "cache_lifetime").message;
+  const CheckResult& life = check(r, "cache_lifetime");
+  EXPECT_EQ(life.verdict, Verdict::pass) << life.message;
+  EXPECT_LT(life.figures["peak_active_cells"].get<int>(), 150) << "no longer a scene of few cells";
   const CheckResult& lag = check(r, "blend_lag");
   EXPECT_EQ(lag.verdict, Verdict::fail);
-  EXPECT_GT(lag.figures["max_lag_frames"].get<int>(), 80) << lag.message;
-  std::cout << "open Cornell box, 0.18: " << lag.message << "\n";
+  const int limit = lag.limits["lag_frames"].get<int>();
+  const std::vector<int> lags = event_lags(lag);
+  ASSERT_EQ(lags.size(), 2u) << lag.figures.dump();
+  EXPECT_LE(lags[0], limit) << "light off (frame 60) settles";
+  EXPECT_GT(lags[1], limit) << "light on (frame 210) does not settle within the limit";
+  EXPECT_GT(lag.figures["max_static_variation"].get<double>(), lag.limits["delta"].get<double>())
+      << "the mean jumps by more than δ once settled";
+  std::cout << "open Cornell box, 0.18: " << life.figures["peak_active_cells"] << " cells; " << lag.message << "; "
+            << lag.figures["events"].dump() << "\n";
 }
 
 TEST(CacheChecksScenario, OpenField018Passes) {
