@@ -50,6 +50,7 @@ std::string hash_of(const nlohmann::json& manifest, const std::string& buffer, c
 }
 
 TEST(BackendPipeline, FullRealtimeImagesAgreeBetweenRayQueryAndBvh) {
+  GI_SKIP_WITHOUT_RAY_QUERY();
   test::TempDir dir("backend-pipeline");
   const BackendRun rq = run_on("rayquery", dir.path());
   const BackendRun bvh = run_on("bvh", dir.path());

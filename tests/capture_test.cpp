@@ -1,6 +1,7 @@
 // Captures (replay/capture.h), `giharness replay --verify`, the determinism
 // check and the nightly's failure captures (DESIGN §6, §9), end to end on
-// lavapipe at 64x48 (each run of 120 frames takes about a second).
+// the default device at 64x48 (each run of 120 frames takes about a second
+// on lavapipe).
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -176,7 +177,7 @@ TEST_F(Capture60, EveryNpyHeaderMatchesTheManifest) {
   const nlohmann::json m = test::read_json(capture() / "manifest.json");
   EXPECT_EQ(m["frame"], 60);
   EXPECT_EQ(m["seed"], 7);
-  EXPECT_EQ(m["backend"], "bvh");  // lavapipe: auto picks the BVH backend
+  EXPECT_EQ(m["backend"], test::device_support().auto_backend);  // bvh on lavapipe and without ray queries
   ASSERT_GE(m["buffers"].size(), 7u);
   for (const nlohmann::json& b : m["buffers"]) {
     const auto file = capture() / b["file"].get<std::string>();
@@ -191,15 +192,7 @@ TEST_F(Capture60, EveryNpyHeaderMatchesTheManifest) {
 }
 
 TEST_F(Capture60, ExrLayersListWithExrheader) {
-  const test::CommandResult r = [] {
-    test::CommandResult c;
-    const std::string cmd = "exrheader " + (capture() / "images.exr").string() + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (p && std::fgets(buf, sizeof buf, p)) c.output += buf;
-    c.exit_code = p ? WEXITSTATUS(pclose(p)) : -1;
-    return c;
-  }();
+  const test::CommandResult r = test::run_command("exrheader " + (capture() / "images.exr").string());
   ASSERT_EQ(r.exit_code, 0) << "exrheader (Debian package openexr, in .ci/setup): " << r.output;
   for (const char* channel : {"    R,", "di.R,", "albedo.R,", "normal.R,", "depth.R,", "motion.R,", "half_a.R,"})
     EXPECT_NE(r.output.find(channel), std::string::npos) << channel << " in\n" << r.output;

@@ -103,6 +103,7 @@ class HiddenGeometry : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(HiddenGeometry, EveryStateBufferMatchesTheRunWithoutTheEvents) {
   const std::string backend = GetParam();
+  if (backend == "rayquery") GI_SKIP_WITHOUT_RAY_QUERY();
   test::TempDir dir("geometry_hidden_" + backend);
   const json scene = {{"generator", "cache_closed_room"}};
   const json events = json::array(

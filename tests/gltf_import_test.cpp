@@ -3,7 +3,6 @@
 #include "core/gltf_import.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -18,6 +17,7 @@
 
 #include "core/errors.h"
 #include "tests/gltf_fixture.h"
+#include "tests/test_support.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -31,14 +31,9 @@ using gi::test::TinyGltf;
 
 class GltfImport : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("giharness_gltf_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  GltfImport()
+      : tmp_(std::string("gltf_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()),
+        dir_(tmp_.path()) {}
 
   fs::path write(const json& doc, const std::string& name = "bad.gltf") {
     const fs::path p = dir_ / name;
@@ -63,7 +58,8 @@ class GltfImport : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
+  gi::test::TempDir tmp_;  // removed when the test ends
+  const fs::path dir_;
 };
 
 bool has_warning(const gi::Scene& s, const std::string& text) {

@@ -1,7 +1,8 @@
 // The walking skeleton's proof: two independent estimators of the same image —
-// the GPU reference mode (Vulkan ray queries, lavapipe) and the Embree path
-// tracer — agree within their combined noise, and the comparison is sharp
-// enough to reject a 5% albedo change in one of them.
+// the GPU reference mode (test_backend(): ray queries on lavapipe, the bvh
+// backend on devices without them) and the Embree path tracer — agree within
+// their combined noise, and the comparison is sharp enough to reject a 5%
+// albedo change in one of them.
 #include <gtest/gtest.h>
 
 #include "core/gltf_import.h"

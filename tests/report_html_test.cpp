@@ -17,26 +17,9 @@
 namespace gi {
 namespace {
 
-struct Shell {
-  int exit_code = -1;
-  std::string output;
-};
-
-Shell shell(const std::string& cmd) {
-  Shell r;
-  FILE* pipe = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
 // One headless Chromium run; `mode` is e.g. "--dump-dom" or "--screenshot=F".
-Shell chromium(const std::filesystem::path& html, const std::string& mode, const test::TempDir& profile) {
-  return shell(
+test::CommandResult chromium(const std::filesystem::path& html, const std::string& mode, const test::TempDir& profile) {
+  return test::run_command(
       "timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
       "--disable-background-networking --disable-component-update --disable-sync --disable-dev-shm-usage "
       "--user-data-dir=" + (profile.path() / "profile").string() +
@@ -57,7 +40,7 @@ std::vector<std::string> console_errors(const std::string& log) {
   return errors;
 }
 
-bool chromium_installed() { return shell("command -v chromium").exit_code == 0; }
+bool chromium_installed() { return test::run_command("command -v chromium").exit_code == 0; }
 
 // Fraction of pixels that are not near-white, and how many distinct colours.
 std::pair<double, std::size_t> ink(const std::filesystem::path& png) {
@@ -83,7 +66,7 @@ TEST(ReportHtml, ChromiumConsoleErrorsAreDetected) {
   const std::filesystem::path html = dir.path() / "bad.html";
   std::ofstream(html) << "<!DOCTYPE html><html><body><img alt=\"x\" src=\"data:image/png;base64,AAAA\">"
                          "<script>no_such_function();</script></body></html>";
-  const Shell r = chromium(html, "--dump-dom", dir);
+  const test::CommandResult r = chromium(html, "--dump-dom", dir);
   EXPECT_FALSE(console_errors(r.output).empty()) << r.output;
 }
 
@@ -113,7 +96,7 @@ TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
   EXPECT_GE(previews, 4u);  // gpu, embree, error map + the capture
   EXPECT_NE(text.find("reference/frame_00007.exr"), std::string::npos);
 
-  const Shell dom = chromium(html, "--dump-dom", dir);
+  const test::CommandResult dom = chromium(html, "--dump-dom", dir);
   EXPECT_TRUE(console_errors(dom.output).empty()) << dom.output;
   std::smatch m;
   const std::regex counts(R"re(data-images-ok="(\d+)" data-images-broken="(\d+)")re");
@@ -123,7 +106,7 @@ TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
   EXPECT_EQ(m[2].str(), "0");
 
   const std::filesystem::path png = dir.path() / "screenshot.png";
-  const Shell shot = chromium(html, "--screenshot=" + png.string(), dir);
+  const test::CommandResult shot = chromium(html, "--screenshot=" + png.string(), dir);
   EXPECT_TRUE(console_errors(shot.output).empty()) << shot.output;
   ASSERT_TRUE(std::filesystem::exists(png)) << shot.output;
   const auto [inked, colours] = ink(png);

@@ -3,10 +3,10 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
-#include <random>
 
 #include <sys/wait.h>
 
+#include "core/errors.h"
 #include "core/scene_flatten.h"
 #include "gpu/device.h"
 #include "gpu/renderer.h"
@@ -15,8 +15,8 @@
 
 namespace gi::test {
 
-CommandResult run_giharness(const std::string& args, const std::string& env) {
-  const std::string cmd = env + (env.empty() ? "" : " ") + GIHARNESS_BINARY + std::string(" ") + args + " 2>&1";
+CommandResult run_command(const std::string& command) {
+  const std::string cmd = "{ " + command + "\n} 2>&1";
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
@@ -28,15 +28,8 @@ CommandResult run_giharness(const std::string& args, const std::string& env) {
   return r;
 }
 
-TempDir::TempDir(const std::string& name) {
-  std::random_device rd;
-  path_ = std::filesystem::temp_directory_path() / ("giharness-test-" + name + "-" + std::to_string(rd()));
-  std::filesystem::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
+CommandResult run_giharness(const std::string& args, const std::string& env) {
+  return run_command(env + (env.empty() ? "" : " ") + GIHARNESS_BINARY + std::string(" ") + args);
 }
 
 nlohmann::json read_json(const std::filesystem::path& file) {
@@ -46,9 +39,33 @@ nlohmann::json read_json(const std::filesystem::path& file) {
 
 std::filesystem::path source_dir() { return GIHARNESS_SOURCE_DIR; }
 
+const DeviceSupport& device_support() {
+  static const DeviceSupport support = [] {
+    DeviceSupport s;
+    {
+      const gpu::Device device(std::nullopt, gpu::BackendRequest::automatic);
+      s.name = device.info().name;
+      s.lavapipe = s.name.find("llvmpipe") != std::string::npos;
+      s.auto_backend = gpu::backend_name(device.backend());
+    }
+    try {
+      const gpu::Device device(std::nullopt, gpu::BackendRequest::rayquery);
+      s.ray_query = true;
+    } catch (const DeviceError& e) {
+      s.ray_query_error = e.what();
+    }
+    return s;
+  }();
+  return support;
+}
+
+gpu::BackendRequest test_backend() {
+  return device_support().ray_query ? gpu::BackendRequest::rayquery : gpu::BackendRequest::bvh;
+}
+
 GpuReference render_gpu_reference(const Scene& scene, std::uint32_t width, std::uint32_t height,
                                   std::uint32_t frames, std::uint32_t spp, std::uint32_t seed) {
-  gpu::Device device;
+  gpu::Device device(std::nullopt, test_backend());
   gpu::ShaderCompiler compiler(cache_root());
   const FlatGeometry geometry = flatten_geometry(scene);
   const FlatInstances flat = flatten_instances(scene, geometry);

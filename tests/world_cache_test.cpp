@@ -103,7 +103,7 @@ CacheBias cornell_cache_bias(float cell_size_base) {
   const Scene scene = make_cornell_box();
   const FlatGeometry geometry = flatten_geometry(scene);
   const FlatInstances flat = flatten_instances(scene, geometry);
-  gpu::Device device;
+  gpu::Device device(std::nullopt, test::test_backend());
   gpu::ShaderCompiler compiler(cache_root());
   gpu::RendererOptions options;
   options.width = w;

@@ -7,12 +7,12 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "core/errors.h"
 #include "core/gltf_import.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
+#include "tests/test_support.h"
 
 namespace gi::fuzz {
 
@@ -29,12 +29,9 @@ void scenario_input(const std::uint8_t* data, std::size_t size) {
 
 void gltf_input(const std::uint8_t* data, std::size_t size) {
   // One folder per process: buffers referenced by relative URI resolve (or
-  // fail to) inside it, never in the working directory.
-  static const std::filesystem::path dir = [] {
-    std::filesystem::path d = std::filesystem::temp_directory_path() / ("giharness-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
+  // fail to) inside it, never in the working directory; removed at exit.
+  static const test::TempDir tmp("fuzz");
+  const std::filesystem::path& dir = tmp.path();
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::filesystem::path file = dir / (glb ? "input.glb" : "input.gltf");
   {
