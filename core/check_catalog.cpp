@@ -1,5 +1,7 @@
 #include "core/check_catalog.h"
 
+#include "core/scenario.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -29,6 +31,13 @@ const CheckDeclaration* find_declared_check(const std::string& name) {
   for (const CheckDeclaration& d : catalog())
     if (d.name == name) return &d;
   return nullptr;
+}
+
+void drop_rerunning_checks(Scenario& scenario) {
+  std::erase_if(scenario.checks, [](const CheckSpec& c) {
+    const CheckDeclaration* d = find_declared_check(c.name);
+    return d && d->reruns_scenario;
+  });
 }
 
 }  // namespace gi

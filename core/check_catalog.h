@@ -20,7 +20,13 @@ struct CheckDeclaration {
   // Parse-time validation of what needs no run (types, ranges): an InputError
   // naming the check's JSON path. Empty: the check validates when it is made.
   std::function<void(const CheckSpec&, const Scenario&)> validate;
+  // The check runs the scenario again itself (determinism): runs that are
+  // themselves repeats (a replay, a failure capture's rerun) drop it.
+  bool reruns_scenario = false;
 };
+
+// Drops the checks that run the scenario again (CheckDeclaration::reruns_scenario).
+void drop_rerunning_checks(Scenario& scenario);
 
 // Called during static initialisation (one declaration per name).
 void declare_check(CheckDeclaration declaration);

@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/check_catalog.h"
 #include "replay/capture.h"
 
 namespace gi {
@@ -30,7 +31,7 @@ nlohmann::json capture_failing_frames(const Scenario& scenario, const RunOptions
     Scenario same = scenario;
     same.capture.clear();
     // Its own repeats would only run the scenario twice more.
-    std::erase_if(same.checks, [](const CheckSpec& c) { return c.name == "determinism"; });
+    drop_rerunning_checks(same);
     spdlog::info("{}: re-running to capture the first failing frame(s) of its failing checks", scenario.name);
     run_scenario(same, rerun);
     for (std::uint32_t f : wanted) {

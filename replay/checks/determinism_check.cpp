@@ -186,7 +186,7 @@ class DeterminismPlugin final : public Check {
   DeterminismParams params_;
 };
 
-const CheckRegistration kRegistration{{"determinism", {"name", "second_run", "snapshot_frame"}, {}},
+const CheckRegistration kRegistration{{"determinism", {"name", "second_run", "snapshot_frame"}, {}, true},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<DeterminismPlugin>(c);
                                       }};

@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/atomic_file.h"
+#include "core/check_catalog.h"
 #include "core/errors.h"
 #include "core/scenario.h"
 #include "replay/capture.h"
@@ -25,7 +26,7 @@ int run_replay_command(const ReplayOptions& o) {
   Scenario scenario = parse_scenario(m["scenario"]["document"], scenario_file);
   // Replay continues the run; it does not repeat its captures or its determinism repeats.
   scenario.capture.clear();
-  std::erase_if(scenario.checks, [](const CheckSpec& c) { return c.name == "determinism"; });
+  drop_rerunning_checks(scenario);
 
   RunOptions ro;
   ro.frames = o.frames.value_or(m["frames"].get<std::uint32_t>());
