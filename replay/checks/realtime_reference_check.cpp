@@ -32,20 +32,6 @@ Comparison single_chain(const Image& a, const Image& b, const ReferenceCompariso
   return c;
 }
 
-nlohmann::json comparison_json(const Comparison& c) {
-  return {{"relmse", json_figure(c.relmse)},
-          {"noise_gpu", json_figure(c.noise_x)},
-          {"noise_reference", json_figure(c.noise_y)},
-          {"combined_noise", json_figure(c.combined_noise)},
-          {"relmse_over_noise", json_figure(c.relmse_over_noise)},
-          {"bias_relmse", json_figure(c.bias_relmse)},
-          {"energy_ratio", json_figure(c.energy_ratio)},
-          {"energy_ratio_sigma", json_figure(c.energy_ratio_sigma)},
-          {"mean_abs_error", json_figure(c.mean_abs_error)},
-          {"max_luminance_ratio", json_figure(c.max_luminance_ratio)},
-          {"nonfinite_gpu", c.nonfinite_x}};
-}
-
 }  // namespace
 
 double edge_region_relmse(const Image& x, const Image& y) {

@@ -123,6 +123,21 @@ CheckResult ReferenceComparisons::start_result() const {
   return r;
 }
 
+nlohmann::json comparison_json(const Comparison& c) {
+  return {{"relmse", json_figure(c.relmse)},
+          {"noise_gpu", json_figure(c.noise_x)},
+          {"noise_reference", json_figure(c.noise_y)},
+          {"combined_noise", json_figure(c.combined_noise)},
+          {"relmse_over_noise", json_figure(c.relmse_over_noise)},
+          {"bias_relmse", json_figure(c.bias_relmse)},
+          {"energy_ratio", json_figure(c.energy_ratio)},
+          {"energy_ratio_sigma", json_figure(c.energy_ratio_sigma)},
+          {"mean_abs_error", json_figure(c.mean_abs_error)},
+          {"mean_rel_error", json_figure(c.mean_rel_error)},
+          {"max_luminance_ratio", json_figure(c.max_luminance_ratio)},
+          {"nonfinite_gpu", c.nonfinite_x}};
+}
+
 const char* verdict_name(const ComparisonVerdict& v) {
   return v.passed ? "pass" : (v.inconclusive ? "inconclusive" : "fail");
 }
@@ -149,26 +164,15 @@ CheckResult ReferenceCheck::result() const {
   Tally tally;
   nlohmann::json per_frame = nlohmann::json::array();
   for (const FrameComparison& f : frames_) {
-    const Comparison& c = f.comparison;
-    per_frame.push_back({{"frame", f.frame},
-                         {"relmse", json_figure(c.relmse)},
-                         {"noise_gpu", json_figure(c.noise_x)},
-                         {"noise_reference", json_figure(c.noise_y)},
-                         {"combined_noise", json_figure(c.combined_noise)},
-                         {"relmse_over_noise", json_figure(c.relmse_over_noise)},
-                         {"bias_relmse", json_figure(c.bias_relmse)},
-                         {"energy_ratio", json_figure(c.energy_ratio)},
-                         {"energy_ratio_sigma", json_figure(c.energy_ratio_sigma)},
-                         {"mean_abs_error", json_figure(c.mean_abs_error)},
-                         {"mean_rel_error", json_figure(c.mean_rel_error)},
-                         {"max_luminance_ratio", json_figure(c.max_luminance_ratio)},
-                         {"nonfinite_gpu", c.nonfinite_x},
-                         {"gpu_samples_per_pixel", f.gpu_samples},
-                         {"reference_spp", f.reference_spp},
-                         {"reference_seconds", json_figure(f.reference_seconds)},
-                         {"reference_cached", f.reference_cached},
-                         {"verdict", verdict_name(f.verdict)},
-                         {"reason", f.verdict.reason}});
+    nlohmann::json j = comparison_json(f.comparison);
+    j.update(nlohmann::json{{"frame", f.frame},
+                            {"gpu_samples_per_pixel", f.gpu_samples},
+                            {"reference_spp", f.reference_spp},
+                            {"reference_seconds", json_figure(f.reference_seconds)},
+                            {"reference_cached", f.reference_cached},
+                            {"verdict", verdict_name(f.verdict)},
+                            {"reason", f.verdict.reason}});
+    per_frame.push_back(j);
     r.evidence.push_back(f.evidence);
     tally.add(f.frame, f.verdict, fmt::format("frame {}: {}", f.frame, f.verdict.reason), r);
   }

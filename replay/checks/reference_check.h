@@ -73,6 +73,8 @@ class ReferenceComparisons {
 
 // A frame's verdict as the summary spells it.
 const char* verdict_name(const ComparisonVerdict& v);
+// A comparison's figures as the summary spells them.
+nlohmann::json comparison_json(const Comparison& c);
 
 class ReferenceCheck : public ReferenceComparisons {
  public:
