@@ -25,7 +25,7 @@ Image sum_images(const Image& a, const Image& b) {
 
 FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device)
     : scenario_(scenario), options_(options), setup_(setup), device_(device), compiler_(cache_root()),
-      scene_(setup.initial), frame_log_(options.out_dir / "frames.jsonl") {
+      scene_(setup.initial), geometry_(std::move(setup.geometry)), frame_log_(options.out_dir / "frames.jsonl") {
   if (setup.record_hashes) hash_log_.emplace(options.out_dir / "buffer_hashes.jsonl");
   build_renderer();
   previous_camera_ = make_gpu_camera(scene_.camera, setup.width, setup.height);
@@ -33,7 +33,6 @@ FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSet
 }
 
 void FrameLoop::build_renderer() {
-  geometry_ = flatten_geometry(scene_);
   renderer_.reset();  // one pipeline's buffers at a time
   renderer_ = std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, setup_.renderer_options);
   for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
@@ -55,6 +54,7 @@ void FrameLoop::resume() {
   if (capture.frame + 1 >= setup_.frames)
     throw InputError(manifest, "/frame", fmt::format("a frame before the run's last ({} frames)", setup_.frames));
   scene_ = scene_at_frame(setup_.initial, scenario_, capture.frame);
+  geometry_ = flatten_geometry(scene_);
   build_renderer();
   restore_capture(capture, *renderer_);
   const nlohmann::json& loop = capture.manifest["loop"];

@@ -41,7 +41,7 @@ class FrameLoop {
   nlohmann::json noise() const { return noise_; }
 
  private:
-  void build_renderer();  // the renderer for scene_, the checks prepared, the instances uploaded
+  void build_renderer();  // the renderer for geometry_, the checks prepared, scene_'s instances uploaded
   void resume();
   void apply_frame_events(std::uint32_t frame);
   nlohmann::json measure(std::uint32_t frame, FrameData& data);

@@ -42,7 +42,8 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
       height(scenario.resolution[1]),
       realtime(scenario.mode == RenderMode::Realtime),
       profile(resolve_profile(scenario, options.profile, options.sets)),
-      initial(build_scene(scenario)) {
+      initial(build_scene(scenario)),
+      geometry(flatten_geometry(initial)) {
   if (frames == 0) throw InputError("--frames", "", "expected a frame count of at least 1");
   if (scenario.gi && !realtime)
     throw InputError(scenario.file.string(), "/gi", "\"gi\": true in \"mode\": \"realtime\" only");
@@ -80,7 +81,6 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   r.reference = !realtime;
   const std::uint32_t chains = two_chains ? 2u : 1u;
   if (realtime) {
-    const FlatGeometry geometry = flatten_geometry(initial);
     r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
                                     gi && profile.flag("specular.enabled"));
   }

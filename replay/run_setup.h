@@ -14,6 +14,7 @@
 #include "core/profile.h"
 #include "core/scenario.h"
 #include "core/scene.h"
+#include "core/scene_flatten.h"
 #include "gpu/renderer.h"
 #include "replay/checks/check.h"
 #include "replay/run_scenario.h"
@@ -32,6 +33,7 @@ struct RunSetup {
   bool cache_fed = false;  // the world cache runs
   Profile profile;
   Scene initial;
+  FlatGeometry geometry;  // the initial scene's, flattened once (the frame loop takes it)
   std::set<std::uint32_t> captures;  // the scenario's, --capture's and the checks'
   nlohmann::json skipped_captures = nlohmann::json::array();  // the scenario's, past a --frames run
   bool record_hashes = false;
