@@ -19,14 +19,7 @@ GI_FN vec3 direct_trace(vec3 origin, vec3 direction, INOUT(uint) rng) {
   vec3 ns = dot(s.shading_normal, ng) < 0.0f ? -s.shading_normal : s.shading_normal;
   vec3 v = -direction;
   BrdfParams brdf = material_brdf(s.material);
-  vec3 l;
-  float dist;
-  vec3 le;
-  float light_pdf;
-  if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
-    vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
-    vec3 spawn = offset_ray_origin(s.position, ng);
-    if (max3(f) > 0.0f && light_sample_visible(s.position, spawn, l, dist)) radiance += f * le / light_pdf;
-  }
+  vec3 spawn = offset_ray_origin(s.position, ng);
+  add_next_event(brdf, s.position, ng, ns, v, spawn, vec3(1.0f), MIS_NONE, radiance, rng);
   return radiance;
 }

@@ -15,11 +15,6 @@ GI_FN vec3 offset_ray_origin(vec3 p, vec3 n) {
   return p + n * (1e-4f * scale);
 }
 
-GI_FN float balance_heuristic(float a, float b) { return a / (a + b); }
-// Veach's power heuristic with β = 2 (Solari's specular GI, v0.18.0
-// realtime/specular_gi.wgsl:147,170).
-GI_FN float power_heuristic(float a, float b) { return (a * a) / (a * a + b * b); }
-
 // Shadow test for a light sample (direction l, distance dist from p; dist =
 // RAY_TMAX for directional lights) from the offset origin `spawn`. The ray
 // aims from `spawn` at the light point itself: the segment meets the
@@ -61,6 +56,32 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
   radiance = q.emissive;
   pdf = dist2 / (cos_light * float(count) * float(light.triangle_count) * q.area);
   return true;
+}
+
+// Next-event estimation at a shading point (position p, geometric normal ng
+// and shading normal ns on the side the ray arrived from, v towards where it
+// came from, spawn the offset origin): one light sample, shadowed, times the
+// BRDF and the cosine at ns, over its pdf, weighted against BRDF sampling by
+// `heuristic`; light from below ng is excluded. Adds throughput times that to
+// `radiance` (inside the test, as one multiply-add: the shader compiler fuses
+// it there, and the GPU images keep their bits).
+GI_FN void add_next_event(BrdfParams brdf, vec3 p, vec3 ng, vec3 ns, vec3 v, vec3 spawn, vec3 throughput,
+                          uint heuristic, INOUT(vec3) radiance, INOUT(uint) rng) {
+  vec3 l;
+  float dist;
+  vec3 le;
+  float light_pdf;
+  if (sample_light(p, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
+    vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
+    if (max3(f) > 0.0f && light_sample_visible(p, spawn, l, dist)) {
+      if (heuristic == MIS_NONE) {
+        radiance += throughput * f * le / light_pdf;
+      } else {
+        float w = mis_weight(heuristic, light_pdf, brdf_pdf(brdf, ns, v, l));
+        radiance += throughput * f * le * (w / light_pdf);
+      }
+    }
+  }
 }
 
 // Solid-angle pdf with which sample_light would have produced this emitter hit.
@@ -125,21 +146,11 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
     BrdfParams brdf = material_brdf(s.material);
     vec3 spawn = offset_ray_origin(s.position, ng);
 
-    // Next-event estimation.
-    vec3 l;
-    float dist;
-    vec3 le;
-    float light_pdf;
-    if (sample_light(s.position, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
-      vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
-      if (max3(f) > 0.0f && light_sample_visible(s.position, spawn, l, dist)) {
-        float w = balance_heuristic(light_pdf, brdf_pdf(brdf, ns, v, l));
-        radiance += throughput * f * le * (w / light_pdf);
-      }
-    }
+    add_next_event(brdf, s.position, ng, ns, v, spawn, throughput, MIS_BALANCE, radiance, rng);
 
     // BRDF sampling continues the path.
     vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
+    vec3 l;
     float pdf;
     if (!brdf_sample(brdf, ns, v, u, l, pdf)) break;
     if (dot(l, ng) <= 0.0f) break;

@@ -76,6 +76,21 @@ GI_FN vec2 sample_triangle(vec2 u) {
   return b;
 }
 
+// Multiple importance sampling (Veach).
+GI_FN float balance_heuristic(float a, float b) { return a / (a + b); }
+// Veach's power heuristic with β = 2 (Solari's specular GI, v0.18.0
+// realtime/specular_gi.wgsl:147,170).
+GI_FN float power_heuristic(float a, float b) { return (a * a) / (a * a + b * b); }
+
+// How add_next_event() (path_integrator.h) weighs its light sample against BRDF sampling.
+GI_CONST uint MIS_NONE = 0u;     // light sampling alone (no BRDF-sampled twin)
+GI_CONST uint MIS_BALANCE = 1u;  // the reference path tracer's
+GI_CONST uint MIS_POWER = 2u;    // Solari 0.18's glossy path (specular.mis "power")
+
+GI_FN float mis_weight(uint heuristic, float a, float b) {
+  return heuristic == MIS_POWER ? power_heuristic(a, b) : balance_heuristic(a, b);
+}
+
 GI_SHADER_END
 
 #endif

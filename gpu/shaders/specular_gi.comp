@@ -57,7 +57,7 @@ void main() {
       vec3 wi = to_world(sample_ggx_bounded_vndf(from_world(d.view, d.ns), alpha, rng_next_vec2(rng)), d.ns);
       // DI left this surface's specular lobe, first hit's emission included, to us.
       float first_emission = alpha <= float(SPECULAR_HANDOVER_ALPHA) ? 1.0 : 0.0;
-      GlossyPathEnd path_end = GlossyPathEnd(-1.0, 0.0, first_emission);
+      GlossyPathEnd path_end = glossy_path_end(-1.0, 0.0, first_emission);
 #if SPECULAR_PATH_SPREAD != 0 && GI_HIT_RADIANCE == 2
       vec3 to_camera = frame.camera.position.xyz - d.position;
       path_end.spread_a0 = 0.03 * dot(to_camera, to_camera) / (4.0 * PI * max(dot(d.view, d.ns), 1e-6));

@@ -72,6 +72,18 @@ ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenari
   return p;
 }
 
+std::uint32_t scenario_reference_spp(const Scenario& scenario, std::uint32_t fallback) {
+  const CheckSpec* spec = scenario.find_check("reference");
+  return spec ? reference_check_params(*spec, scenario, scenario.frames).spp : fallback;
+}
+
+nlohmann::json without_reference_checks(const nlohmann::json& checks) {
+  nlohmann::json kept = nlohmann::json::array();
+  for (const nlohmann::json& c : checks)
+    if (c.value("name", "") != "reference") kept.push_back(c);
+  return kept;
+}
+
 ReferenceComparisons::ReferenceComparisons(ReferenceCheckParams params, std::uint32_t seed,
                                            std::filesystem::path cache_dir, std::filesystem::path out_dir)
     : params_(std::move(params)), seed_(seed), cache_dir_(std::move(cache_dir)), out_dir_(std::move(out_dir)) {}

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/image.h"
 #include "core/metrics.h"
 #include "core/scenario.h"
@@ -29,6 +31,14 @@ struct ReferenceCheckParams {
 // Reads the check's parameters; InputError at <check json_path>/<key>.
 ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenario& scenario,
                                             std::uint32_t frame_count);
+
+// What the CLI's own reference renders (`giharness reference`, `sweep`)
+// take from a scenario's reference check, so its parameters are read here
+// only: the samples per pixel it asks for (`fallback` without the check)...
+std::uint32_t scenario_reference_spp(const Scenario& scenario, std::uint32_t fallback);
+// ...and the scenario's checks without it, for a tool that measures error
+// against its own converged reference instead.
+nlohmann::json without_reference_checks(const nlohmann::json& checks);
 
 // The GPU side of one compared frame.
 struct GpuEstimate {

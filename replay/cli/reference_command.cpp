@@ -32,10 +32,7 @@ int run_reference_command(const ReferenceCommandOptions& o) {
   options.height = scenario.resolution[1];
   options.seed = scenario.seed;
   options.threads = o.threads;
-  options.spp = 1024;
-  if (const CheckSpec* spec = scenario.find_check("reference"))
-    options.spp = reference_check_params(*spec, scenario, scenario.frames).spp;
-  if (o.spp) options.spp = *o.spp;
+  options.spp = o.spp.value_or(scenario_reference_spp(scenario, 1024));
   if (options.spp < 2) throw InputError("--spp", "", "expected at least 2 samples (two halves estimate the noise)");
 
   bool hit = false;

@@ -122,10 +122,7 @@ int run_sweep(const SweepOptions& o) {
   nlohmann::json doc = base.raw;
   // The sweep measures error itself against one converged reference; the
   // scenario's own reference check would render Embree again per point.
-  nlohmann::json kept = nlohmann::json::array();
-  for (const nlohmann::json& c : doc.value("checks", nlohmann::json::array()))
-    if (c.value("name", "") != "reference") kept.push_back(c);
-  doc["checks"] = kept;
+  doc["checks"] = without_reference_checks(doc.value("checks", nlohmann::json::array()));
   doc.erase("capture");
   if (o.noise) doc["noise"] = true;
   const std::vector<SweepPoint> points = sweep_points(doc, axes);
@@ -139,10 +136,7 @@ int run_sweep(const SweepOptions& o) {
       throw InputError("--vary", p.label(), std::string("a valid scenario: ") + e.what());
     }
   }
-  std::uint32_t reference_spp = o.reference_spp.value_or(1024);
-  if (!o.reference_spp)
-    if (const CheckSpec* spec = base.find_check("reference"))
-      reference_spp = reference_check_params(*spec, base, base.frames).spp;
+  const std::uint32_t reference_spp = o.reference_spp.value_or(scenario_reference_spp(base, 1024));
 
   nlohmann::json sweep = {{"schema_version", 1},
                           {"scenario", base.file.string()},
