@@ -20,6 +20,12 @@ std::vector<CheckDeclaration>& catalog() {
 void declare_check(CheckDeclaration declaration) {
   std::vector<CheckDeclaration>& c = catalog();
   if (find_declared_check(declaration.name)) throw std::logic_error("check declared twice: " + declaration.name);
+  const nlohmann::json schema = nlohmann::json::parse(declaration.schema, nullptr, /*allow_exceptions=*/false);
+  if (!schema.is_object() || !schema.contains("properties") || !schema["properties"].is_object() ||
+      !schema["properties"].contains("name"))
+    throw std::logic_error("check " + declaration.name + ": its schema is not an object schema with a \"name\" property");
+  declaration.keys.clear();
+  for (const auto& [key, value] : schema["properties"].items()) declaration.keys.push_back(key);
   const auto at = std::lower_bound(c.begin(), c.end(), declaration.name,
                                    [](const CheckDeclaration& d, const std::string& n) { return d.name < n; });
   c.insert(at, std::move(declaration));
@@ -31,6 +37,29 @@ const CheckDeclaration* find_declared_check(const std::string& name) {
   for (const CheckDeclaration& d : catalog())
     if (d.name == name) return &d;
   return nullptr;
+}
+
+nlohmann::ordered_json with_declared_checks(nlohmann::ordered_json schema) {
+  nlohmann::ordered_json& defs = schema["$defs"];
+  nlohmann::ordered_json kept = nlohmann::ordered_json::object();
+  for (auto& [key, value] : defs.items())
+    if (key.rfind("check_", 0) != 0) kept[key] = value;
+  nlohmann::ordered_json names = nlohmann::ordered_json::array();
+  nlohmann::ordered_json by_name = nlohmann::ordered_json::array();
+  for (const CheckDeclaration& d : declared_checks()) {
+    names.push_back(d.name);
+    nlohmann::ordered_json rule;
+    rule["if"]["properties"]["name"]["const"] = d.name;
+    rule["then"]["$ref"] = "#/$defs/check_" + d.name;
+    by_name.push_back(rule);
+  }
+  nlohmann::ordered_json& check = kept["check"];
+  check["properties"]["name"]["enum"] = names;
+  check["allOf"] = by_name;
+  for (const CheckDeclaration& d : declared_checks())
+    kept["check_" + d.name] = nlohmann::ordered_json::parse(d.schema);
+  defs = kept;
+  return schema;
 }
 
 void drop_rerunning_checks(Scenario& scenario) {

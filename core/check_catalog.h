@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace gi {
 
 struct CheckSpec;
@@ -16,19 +18,31 @@ struct Scenario;
 
 struct CheckDeclaration {
   std::string name;
-  std::vector<std::string> keys;  // every key the check's object may hold, "name" included
+  // The JSON Schema of the check's object (scenarios/schema.json's
+  // $defs/check_<name>, which with_declared_checks writes from it): its
+  // properties are every key the object may hold, "name" included.
+  std::string schema;
   // Parse-time validation of what needs no run (types, ranges): an InputError
   // naming the check's JSON path. Empty: the check validates when it is made.
   std::function<void(const CheckSpec&, const Scenario&)> validate;
   // The check runs the scenario again itself (determinism): runs that are
   // themselves repeats (a replay, a failure capture's rerun) drop it.
   bool reruns_scenario = false;
+  std::vector<std::string> keys = {};  // the schema's properties (declare_check fills them)
 };
 
 // Drops the checks that run the scenario again (CheckDeclaration::reruns_scenario).
 void drop_rerunning_checks(Scenario& scenario);
 
-// Called during static initialisation (one declaration per name).
+// The scenario schema with its check part written from the declared checks:
+// $defs/check (the names, and each name's parameters by reference) and one
+// $defs/check_<name> per check, in name order; everything else as given.
+// scenarios/schema.json is this of itself (`giharness schema` writes it; the
+// schema test holds it so).
+nlohmann::ordered_json with_declared_checks(nlohmann::ordered_json schema);
+
+// Called during static initialisation (one declaration per name); a schema
+// that is not a JSON object with properties is a logic_error.
 void declare_check(CheckDeclaration declaration);
 // Sorted by name; complete once static initialisation is over.
 const std::vector<CheckDeclaration>& declared_checks();

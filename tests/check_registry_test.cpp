@@ -44,7 +44,9 @@ TEST(CheckRegistry, EveryDeclaredCheckIsMadeThroughTheRegistry) {
     const std::unique_ptr<Check> check = make_check(c);
     ASSERT_TRUE(check) << spec.name;
     // determinism judges no frame of the main run; every other check reads something.
-    if (spec.name != "determinism") EXPECT_FALSE(check->needs().reads.empty()) << spec.name;
+    if (spec.name != "determinism") {
+      EXPECT_FALSE(check->needs().reads.empty()) << spec.name;
+    }
   }
 }
 

@@ -5,12 +5,14 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include <valijson/adapters/nlohmann_json_adapter.hpp>
 #include <valijson/schema.hpp>
 #include <valijson/schema_parser.hpp>
 #include <valijson/validator.hpp>
 
+#include "core/check_catalog.h"
 #include "core/errors.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
@@ -315,6 +317,18 @@ TEST(ScenarioSchema, KeysAndEnumsMatchTheParser) {
     EXPECT_EQ(as_set(keys_of(D["check_" + name]["properties"])), as_set(keys)) << name;
   }
   EXPECT_EQ(fixed, parser_fixed);
+}
+
+// ---- The schema's check part is written from the checks' own files
+// (`giharness schema`): a check that changed its parameters without the
+// schema being written again fails here.
+TEST(ScenarioSchema, ChecksPartIsWrittenFromTheChecksOwnFiles) {
+  std::ifstream in(kSource / "scenarios/schema.json", std::ios::binary);
+  std::stringstream committed;
+  committed << in.rdbuf();
+  const nlohmann::ordered_json schema = nlohmann::ordered_json::parse(committed.str());
+  EXPECT_EQ(gi::with_declared_checks(schema).dump(2, ' ', false) + "\n", committed.str())
+      << "run: build/giharness schema --out scenarios/schema.json";
 }
 
 // ---- Verdicts: every scenario file, and mutations of the good ones, are

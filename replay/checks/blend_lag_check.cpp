@@ -216,7 +216,58 @@ class BlendLagPlugin final : public Check {
   std::map<std::string, std::vector<double>> signals_;
 };
 
-const CheckRegistration kRegistration{{"blend_lag", {"name", "epsilon", "delta", "lag_limit", "steady_frames", "signals"}, {}},
+// This check's parameters as scenarios/schema.json states them ($defs/check_blend_lag,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "World-cache blend lag (DESIGN §6) of the output's, GI's or the cache's mean luminance: after each lighting event, frames until within epsilon of the new steady state; in static windows, frame-to-frame variation.",
+  "properties": {
+    "name": {
+      "const": "blend_lag"
+    },
+    "epsilon": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1,
+      "description": "Settling band relative to the larger of the levels before and after the event (default 0.05)."
+    },
+    "delta": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1,
+      "description": "Largest frame-to-frame change in static windows, relative to the window's level (default 0.02)."
+    },
+    "lag_limit": {
+      "type": "integer",
+      "minimum": 0,
+      "maximum": 1000000,
+      "description": "Largest allowed lag in frames (default 10); static windows start this many frames after their event."
+    },
+    "steady_frames": {
+      "type": "integer",
+      "minimum": 1,
+      "maximum": 1000000,
+      "description": "Frames averaged for a steady state: the last of each window (default 8)."
+    },
+    "signals": {
+      "type": "array",
+      "minItems": 1,
+      "items": {
+        "enum": [
+          "output_luminance",
+          "gi_luminance",
+          "cache_mean_radiance",
+          "cache_view_luminance"
+        ]
+      },
+      "description": "The signals judged (default [\"output_luminance\"]; every available one is recorded per frame). output_luminance: mean luminance of the output (DI + GI + specular); gi_luminance: of ReSTIR GI (needs \"gi\": true); cache_mean_radiance: mean irradiance of the cells sampled this frame, those GI's queries keep alive (needs \"gi\": true); cache_view_luminance: the debug cache view's (needs \"cache_view\": true)."
+    }
+  }
+})json";
+
+const CheckRegistration kRegistration{{"blend_lag", kSchema, {}},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<BlendLagPlugin>(c);
                                       }};

@@ -140,7 +140,34 @@ class CacheLifetimePlugin final : public Check {
   CacheLifetimeCheck check_;
 };
 
-const CheckRegistration kRegistration{{"cache_lifetime", {"name", "occupancy_frames", "occupancy_ratio"}, {}},
+// This check's parameters as scenarios/schema.json states them ($defs/check_cache_lifetime,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "World-cache lifetimes (DESIGN §6): every live cell within lifetime + 1 frames of its last pixel-rooted refresh (root frame), 0 ≤ life ≤ lifetime, dead cells empty; with occupancy_frames, the active count returns to its level.",
+  "properties": {
+    "name": {
+      "const": "cache_lifetime"
+    },
+    "occupancy_frames": {
+      "type": "array",
+      "minItems": 2,
+      "items": {
+        "$ref": "#/$defs/frame"
+      },
+      "description": "[before, after] (exactly two): frames whose active cell counts are compared (before a camera sweep leaves, after it has come back)."
+    },
+    "occupancy_ratio": {
+      "type": "number",
+      "minimum": 1,
+      "description": "Largest allowed active(after) / active(before) (default 1.25)."
+    }
+  }
+})json";
+
+const CheckRegistration kRegistration{{"cache_lifetime", kSchema, {}},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<CacheLifetimePlugin>(c);
                                       }};

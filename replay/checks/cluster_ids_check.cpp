@@ -213,8 +213,46 @@ class ClusterIdsPlugin final : public Check {
   std::optional<ClusterIdsCheck> check_;
 };
 
+// This check's parameters as scenarios/schema.json states them ($defs/check_cluster_ids,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "Packed visibility IDs never silently overflow (DESIGN §6, §8): names the first spawn whose clusters exceed 2^cluster_bits; when rendering, counts pixels whose decoded ID disagrees with the instance channel.",
+  "properties": {
+    "name": {
+      "const": "cluster_ids"
+    },
+    "cluster_bits": {
+      "type": "integer",
+      "minimum": 1,
+      "maximum": 30,
+      "description": "Bits of the cluster ID (default 32 − triangle_bits, i.e. 25)."
+    },
+    "triangle_bits": {
+      "type": "integer",
+      "minimum": 2,
+      "maximum": 7,
+      "default": 7,
+      "description": "Bits of the triangle ID; clusters hold up to 2^triangle_bits triangles."
+    },
+    "count_only": {
+      "type": "boolean",
+      "default": false,
+      "description": "Only walk the spawn/despawn events and count IDs; no device, nothing drawn."
+    },
+    "clusters_per_instance": {
+      "type": "integer",
+      "minimum": 1,
+      "maximum": 4294967295,
+      "description": "Count-only: IDs every instance owns instead of its mesh's DAG (a stand-in for a mesh the harness does not have, e.g. Bevy's 32217-cluster cliff)."
+    }
+  }
+})json";
+
 const CheckRegistration kRegistration{
-    {"cluster_ids", {"name", "cluster_bits", "triangle_bits", "count_only", "clusters_per_instance"}, {}},
+    {"cluster_ids", kSchema, {}},
     [](const CheckContext& c) -> std::unique_ptr<Check> { return std::make_unique<ClusterIdsPlugin>(c); }};
 
 }  // namespace

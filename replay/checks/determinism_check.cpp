@@ -186,7 +186,36 @@ class DeterminismPlugin final : public Check {
   DeterminismParams params_;
 };
 
-const CheckRegistration kRegistration{{"determinism", {"name", "second_run", "snapshot_frame"}, {}, true},
+// This check's parameters as scenarios/schema.json states them ($defs/check_determinism,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "Determinism (DESIGN §6): the hashes of every recorded buffer, per frame, of a second run and of a replay from a snapshot captured mid-run, compared with the run's bit for bit; the first divergent frame and buffers are named.",
+  "properties": {
+    "name": {
+      "const": "determinism"
+    },
+    "second_run": {
+      "type": "boolean",
+      "description": "Run the scenario a second time from frame 0 and compare (default true)."
+    },
+    "snapshot_frame": {
+      "oneOf": [
+        {
+          "$ref": "#/$defs/frame"
+        },
+        {
+          "type": "null"
+        }
+      ],
+      "description": "Capture this frame and replay the rest of the run from it (default frames / 2 - 1; null: no replay). Must be below the last frame."
+    }
+  }
+})json";
+
+const CheckRegistration kRegistration{{"determinism", kSchema, {}, true},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<DeterminismPlugin>(c);
                                       }};

@@ -66,7 +66,20 @@ class FiniteCheck final : public Check {
   std::optional<std::uint32_t> first_;
 };
 
-const CheckRegistration kRegistration{{"finite", {"name"}, {}},
+// This check's parameters as scenarios/schema.json states them ($defs/check_finite,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "properties": {
+    "name": {
+      "const": "finite"
+    }
+  }
+})json";
+
+const CheckRegistration kRegistration{{"finite", kSchema, {}},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<FiniteCheck>(c);
                                       }};

@@ -108,7 +108,26 @@ class JacobianPlugin final : public Check {
   JacobianCheck check_;
 };
 
-const CheckRegistration kRegistration{{"jacobian", {"name", "max_jacobian"}, {}},
+// This check's parameters as scenarios/schema.json states them ($defs/check_jacobian,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "ReSTIR GI jacobians (DESIGN §6), from per-frame integer-atomic statistics: merges, rejections, max accepted J, a log2-J histogram, non-finite reservoirs and output. Fails on the first frame with a non-finite value or an accepted J above the limit. Needs \"gi\": true.",
+  "properties": {
+    "name": {
+      "const": "jacobian"
+    },
+    "max_jacobian": {
+      "type": "number",
+      "exclusiveMinimum": 0,
+      "description": "Largest allowed accepted J (default: the profile's restir_gi.jacobian_reject)."
+    }
+  }
+})json";
+
+const CheckRegistration kRegistration{{"jacobian", kSchema, {}},
                                       [](const CheckContext& c) -> std::unique_ptr<Check> {
                                         return std::make_unique<JacobianPlugin>(c);
                                       }};

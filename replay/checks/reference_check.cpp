@@ -263,9 +263,59 @@ class RealtimeReferencePlugin final : public Check {
   RealtimeReferenceCheck check_;
 };
 
+// This check's parameters as scenarios/schema.json states them ($defs/check_reference,
+// which `giharness schema` writes from here); the parser accepts exactly
+// these keys.
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "properties": {
+    "name": {
+      "const": "reference"
+    },
+    "frames": {
+      "type": "array",
+      "minItems": 1,
+      "items": {
+        "$ref": "#/$defs/frame"
+      },
+      "description": "Frames compared with the Embree reference."
+    },
+    "relmse_noise_factor": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1000000.0,
+      "description": "relMSE limit as a multiple of the reference's own noise (e.g. 3.0)."
+    },
+    "energy_tolerance": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1,
+      "description": "|energy ratio − 1| limit (e.g. 0.01)."
+    },
+    "relmse_tolerance": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1000000.0,
+      "description": "Allowed bias in relMSE on top of the noise (default 0: the images must agree within noise)."
+    },
+    "warmup_frames": {
+      "type": "integer",
+      "minimum": 0,
+      "description": "Realtime mode only: frames after the start of each static window left out of the temporal mean, so the check judges the steady state (e.g. a converged world cache), not the warm-up (default 0)."
+    },
+    "spp": {
+      "type": "integer",
+      "minimum": 2,
+      "maximum": 16777216,
+      "description": "Reference samples per pixel (at least 2: two half-sample images estimate its noise)."
+    }
+  }
+})json";
+
 const CheckRegistration kRegistration{
     {"reference",
-     {"name", "frames", "relmse_noise_factor", "energy_tolerance", "relmse_tolerance", "spp", "warmup_frames"},
+     kSchema,
      validate_reference_params},
     [](const CheckContext& c) -> std::unique_ptr<Check> {
       if (c.realtime) return std::make_unique<RealtimeReferencePlugin>(c);

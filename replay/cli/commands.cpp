@@ -89,6 +89,9 @@ void Commands::add_to(CLI::App& app) {
   replay_->add_option("--out", replay_options_.out_dir, "output directory")->capture_default_str();
   replay_->add_option("--device", replay_options_.device, "Vulkan device index (default: the capturing run's)");
 
+  schema_ = app.add_subcommand("schema", "print the scenario JSON Schema, each check's parameters from its own file");
+  schema_->add_option("--out", schema_options_.out, "write it to this file instead (atomically)");
+
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
 
   bench_ = add_bench_subcommand(app, bench_options_);  // replay/cli/bench.cpp
@@ -112,6 +115,7 @@ int Commands::execute() {
   if (replay_->parsed()) return run_replay_command(replay_options_);
   if (nightly_->parsed()) return run_nightly(nightly_options_);
   if (devices_->parsed()) return list_devices_command();
+  if (schema_->parsed()) return run_schema_command(schema_options_);
   if (baseline_update_->parsed()) return run_baseline_update(baseline_options_);
   if (merge_->parsed()) return run_merge(merge_options_);
   if (sweep_->parsed()) return run_sweep(sweep_options_);

@@ -74,6 +74,14 @@ struct ClustersCommandOptions {
   std::uint32_t max_triangles = 128;
 };
 
+struct SchemaOptions {
+  std::filesystem::path out;  // empty: standard output
+};
+
+// replay/cli/schema_command.cpp
+std::string scenario_schema_text();  // the schema as `giharness schema` prints it
+int run_schema_command(const SchemaOptions& options);
+
 int run_reference_command(const ReferenceCommandOptions& options);
 int run_clusters_command(const ClustersCommandOptions& options);  // replay/cli/clusters_command.cpp
 int run_nightly(const NightlyOptions& options);
@@ -96,6 +104,8 @@ class Commands {
   CLI::App* clusters_ = nullptr;
   CLI::App* bench_ = nullptr;
   CLI::App* replay_ = nullptr;
+  CLI::App* schema_ = nullptr;
+  SchemaOptions schema_options_;
   ReplayOptions replay_options_;
   std::filesystem::path scenario_path_;
   RunOptions run_options_;
