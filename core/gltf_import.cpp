@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
+#include "core/json_input.h"
 
 namespace gi {
 namespace {
@@ -127,6 +128,7 @@ class Importer {
   void load() {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file_, ec)) fail("", "an existing glTF file (.gltf or .glb)");
+    if (std::filesystem::file_size(file_, ec) > 0xffffffffu || ec) fail("", "a readable glTF file under 4 GiB");
     std::vector<unsigned char> bytes;
     {
       std::ifstream in(file_, std::ios::binary);
@@ -151,12 +153,7 @@ class Importer {
     } else {
       json_text.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     }
-    Json j;
-    try {
-      j = Json::parse(json_text);
-    } catch (const std::exception& e) {
-      fail("", std::string("valid JSON (") + e.what() + ")");
-    }
+    const Json j = parse_json_input(json_text, fname_);
     if (!j.is_object()) fail("", "a JSON object at the top level");
     precheck(j, glb);
 

@@ -8,6 +8,7 @@
 
 #include "core/data_dir.h"
 #include "core/errors.h"
+#include "core/json_input.h"
 #include "core/scenario.h"
 
 namespace gi {
@@ -102,14 +103,7 @@ Profile load_profile(const std::string& name_or_file, const std::filesystem::pat
   std::filesystem::path file = name_or_file;
   if (file.extension() != ".json" || !std::filesystem::exists(file)) file = dir / (name_or_file + ".json");
   const std::string f = file.string();
-  std::ifstream in(file);
-  if (!in) throw InputError(f, "", "a readable profile file (profile \"" + name_or_file + "\")");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw InputError(f, "", std::string("valid JSON: ") + e.what());
-  }
+  const json doc = read_json_input(file, "a readable profile file (profile \"" + name_or_file + "\")");
   if (!doc.is_object()) throw InputError(f, "", "an object with \"name\" and \"values\"");
   for (auto it = doc.begin(); it != doc.end(); ++it)
     if (it.key() != "name" && it.key() != "description" && it.key() != "values")

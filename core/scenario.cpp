@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "core/check_catalog.h"
+#include "core/json_input.h"
 #include "core/errors.h"
 #include "core/json_reader.h"
 
@@ -436,27 +437,7 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
 }
 
 Scenario load_scenario(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "", "expected a readable scenario file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // Line and column of the byte where parsing stopped.
-    std::size_t byte = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    std::size_t line = 1, col = 1;
-    for (std::size_t i = 0; i < byte; ++i) {
-      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
-    }
-    std::string detail = e.what();
-    std::size_t p = detail.find("column");
-    if (p != std::string::npos && (p = detail.find(": ", p)) != std::string::npos) detail = detail.substr(p + 2);
-    throw InputError(file.string(), "", fmt::format("expected valid JSON; line {}, column {}: {}", line, col, detail));
-  }
-  return parse_scenario(doc, file);
+  return parse_scenario(read_json_input(file, "a readable scenario file"), file);
 }
 
 }  // namespace gi

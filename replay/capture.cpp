@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/json_input.h"
 #include "core/exr_io.h"
 #include "core/npy.h"
 #include "core/png_preview.h"
@@ -137,13 +138,7 @@ Capture read_capture(const std::filesystem::path& dir) {
   const std::filesystem::path file = dir / "manifest.json";
   Capture c;
   c.dir = dir;
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "", "a capture folder with a manifest.json (giharness run --capture F)");
-  try {
-    c.manifest = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string(), "", std::string("valid JSON (") + e.what() + ")");
-  }
+  c.manifest = read_json_input(file, "a capture folder with a manifest.json (giharness run --capture F)");
   const ManifestReader r(file.string());
   const nlohmann::json& m = c.manifest;
   if (!m.is_object()) r.fail("", "a JSON object");

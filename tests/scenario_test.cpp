@@ -163,6 +163,11 @@ const BadCase kBadCases[] = {
     {"unknown_light_name.json", "/events/0/light", true, "\"lamp\""},
     {"unknown_generator.json", "/scene/generator", true, "\"cornel_box\""},
     {"unknown_mesh_generator.json", "/events/0/mesh/generator", true, "unknown mesh generator"},
+    // Hostile input, refused by the guarded reader (core/json_input.h) before the parser walks it.
+    {"duplicate_key.json", "/frames", false, "\"frames\" is there twice"},
+    {"number_overflow.json", "/scene/params/light_scale", false, "a number a double holds"},
+    {"deep_nesting.json", "/description/0/0/0/0/0/0/0/0/0/0/0/0/0/0/0/…", false, "nested at most 256 deep; deeper at line 3"},
+    {"byte_order_mark.json", "", false, "byte-order mark"},
 };
 
 TEST(Scenario, EveryBadFileIsAnInputErrorWithFileAndPath) {
@@ -338,14 +343,23 @@ TEST(ScenarioSchema, ParserAndSchemaAgreeOnEveryFile) {
   const SchemaValidator v(schema());
   const std::set<std::string> beyond_schema = {"missing_scene_file.json", "unknown_light_name.json",
                                                "unknown_generator.json", "unknown_mesh_generator.json"};
+  const std::set<std::string> guarded = {"duplicate_key.json", "byte_order_mark.json", "deep_nesting.json",
+                                         "number_overflow.json"};
   int n = 0;
   for (const fs::path& f : scenario_files()) {
     SCOPED_TRACE(f.string());
     json doc;
+    // Faults below the document (a duplicate key, a BOM, depth, a number past
+    // a double) are the guarded reader's, not the schema's: nlohmann alone
+    // reads some of them without complaint.
+    if (guarded.count(f.filename().string())) {
+      EXPECT_THROW(gi::load_scenario(f), gi::InputError);
+      continue;
+    }
     try {
       std::ifstream in(f);
       doc = json::parse(in);
-    } catch (const json::parse_error&) {
+    } catch (const json::exception&) {
       EXPECT_THROW(gi::load_scenario(f), gi::InputError);
       continue;
     }

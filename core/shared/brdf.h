@@ -62,16 +62,23 @@ GI_FN vec3 F_Schlick(vec3 f0, float VoH) {
 // Cosines below this count as grazing; keeps every division finite.
 GI_CONST float BRDF_MIN_COS = 1e-6f;
 
-// f(v, l) (without the cosine), n the shading normal facing v.
-GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
+// The specular lobe (D_GGX · V_SmithGGXCorrelated · F_Schlick) at a given
+// alpha, n facing v. No clamp here: alpha = 0 at the mirror direction
+// is D_GGX = 0/0.
+GI_FN vec3 specular_brdf(vec3 f0, float alpha, vec3 n, vec3 v, vec3 l) {
   float NoL = dot(n, l);
   if (NoL <= 0.0f) return vec3(0.0f);
   float NoV = max(dot(n, v), BRDF_MIN_COS);
   vec3 h = normalize(v + l);
   float NoH = saturate(dot(n, h));
   float VoH = saturate(dot(v, h));
-  vec3 specular = D_GGX(p.alpha, NoH) * V_SmithGGXCorrelated(p.alpha, NoV, NoL) * F_Schlick(p.f0, VoH);
-  return p.diffuse_color * INV_PI + specular;
+  return D_GGX(alpha, NoH) * V_SmithGGXCorrelated(alpha, NoV, NoL) * F_Schlick(f0, VoH);
+}
+
+// f(v, l) (without the cosine), n the shading normal facing v.
+GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
+  if (dot(n, l) <= 0.0f) return vec3(0.0f);
+  return p.diffuse_color * INV_PI + specular_brdf(p.f0, p.alpha, n, v, l);
 }
 
 // The diffuse lobe alone (Solari's evaluate_diffuse_brdf).

@@ -66,19 +66,6 @@ GI_FN float ggx_bounded_vndf_pdf(vec3 v, vec3 l, float alpha) {
   return ndf * (t - v.z) / (2.0f * len2);
 }
 
-// The specular lobe of brdf.h (D_GGX · V_SmithGGXCorrelated · F_Schlick) at a
-// given alpha, n facing v. No clamp here: alpha = 0 at the mirror direction
-// is D_GGX = 0/0.
-GI_FN vec3 specular_brdf(vec3 f0, float alpha, vec3 n, vec3 v, vec3 l) {
-  float NoL = dot(n, l);
-  if (NoL <= 0.0f) return vec3(0.0f);
-  float NoV = max(dot(n, v), BRDF_MIN_COS);
-  vec3 h = normalize(v + l);
-  float NoH = saturate(dot(n, h));
-  float VoH = saturate(dot(v, h));
-  return D_GGX(alpha, NoH) * V_SmithGGXCorrelated(alpha, NoV, NoL) * F_Schlick(f0, VoH);
-}
-
 // brdf · cos / pdf of a direction drawn by sample_ggx_bounded_vndf, formed
 // the way Solari forms it (brdf and pdf apart): ≈ F at the clamped mirror,
 // NaN at alpha 0 — the bug the `finite` check exists for.
