@@ -139,6 +139,9 @@ struct Scenario {
   // alive, so it changes the cache it shows; captures gain a "cache_view" layer.
   bool cache_view = false;
   std::uint32_t samples_per_frame = 1;
+  // The nightly's wall-time limit for this scenario's process, in seconds
+  // (unset: the suite's --scenario-timeout).
+  std::optional<std::uint32_t> timeout_seconds;
   std::optional<CameraSpec> camera;
   std::vector<Event> events;    // in file order
   std::vector<CheckSpec> checks;
@@ -185,6 +188,7 @@ const ScenarioKeys& scenario_keys();
 inline constexpr std::uint32_t kMaxResolution = 8192;
 inline constexpr std::uint32_t kMaxFrames = 10'000'000;
 inline constexpr std::uint32_t kMaxSamplesPerFrame = 1024;
+inline constexpr std::uint32_t kMaxTimeoutSeconds = 604800;  // a week
 inline constexpr std::uint32_t kMaxSpawnRepeat = 100'000;
 
 // JSON Pointer escaping of one reference token ("~" → "~0", "/" → "~1").

@@ -451,4 +451,6 @@ void Device::set_fault_handler(std::function<void(const std::string& message)> h
   fault_handler() = std::move(handler);
 }
 
+void Device::fault(const std::string& message) { gpu_fault(message); }
+
 }  // namespace gi::gpu

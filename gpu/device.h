@@ -99,6 +99,8 @@ class Device {
   // scenario and rewrites its summary).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
   static void set_fault_handler(std::function<void(const std::string& message)> handler);
+  // The same end for a fault found elsewhere: the handler, the message, exit 3.
+  [[noreturn]] static void fault(const std::string& message);
 
  private:
   void destroy() noexcept;

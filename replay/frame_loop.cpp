@@ -9,6 +9,7 @@
 #include "replay/capture.h"
 #include "replay/events.h"
 #include "replay/resource_limits.h"
+#include "replay/test_faults.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 
@@ -154,6 +155,7 @@ void FrameLoop::run() {
   std::optional<gpu::GiFrameStats> gi_stats;
   std::optional<gpu::WorldCacheFrameStats> cache_stats;
   for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
+    inject_test_fault(scenario_.name, frame);
     apply_frame_events(frame);
     const GpuCamera camera = make_gpu_camera(scene_.camera, width, height);
     renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,

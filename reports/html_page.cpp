@@ -93,7 +93,8 @@ th { background: #f0f0f0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .verdict { font-weight: bold; padding: 1px 6px; border-radius: 3px; }
 .verdict.pass, .verdict.improved { background: #d7f5d7; color: #135e13; }
-.verdict.fail, .verdict.regressed, .verdict.missing, .verdict.error { background: #fbd5d5; color: #8a1010; }
+.verdict.fail, .verdict.regressed, .verdict.missing, .verdict.error, .verdict.bad-input, .verdict.crashed,
+.verdict.timeout, .verdict.device-error { background: #fbd5d5; color: #8a1010; }
 .verdict.inconclusive, .verdict.not-run, .verdict.interrupted, .verdict.no-baseline { background: #fff0c2; color: #6b5200; }
 .triplet { display: flex; gap: 12px; flex-wrap: wrap; }
 .triplet figure { margin: 0; } .triplet figcaption { font-size: 12px; color: #555; }

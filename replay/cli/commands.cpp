@@ -60,6 +60,20 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
   nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");
   nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
+  nightly_->add_option("--scenario-timeout", nightly_options_.scenario_timeout,
+                       "seconds of wall time per scenario (unless it sets timeout_seconds), then verdict timeout")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  nightly_->add_option("--memory-limit-mb", nightly_options_.memory_limit_mb,
+                       "address-space limit of each scenario's process (off by default)")
+      ->check(CLI::PositiveNumber);
+
+  // One scenario of a nightly, in the process the nightly starts for it (hidden).
+  nightly_scenario_ = app.add_subcommand("nightly-scenario", "")->group("");
+  nightly_scenario_->add_option("scenario", nightly_scenario_options_.scenario)->required();
+  nightly_scenario_->add_option("--out", nightly_scenario_options_.out_dir)->required();
+  nightly_scenario_->add_option("--row", nightly_scenario_options_.row)->required();
+  nightly_scenario_->add_option("--device", nightly_scenario_options_.device);
 
   baseline_ = app.add_subcommand("baseline", "manage nightly baselines");
   baseline_update_ = baseline_->add_subcommand("update", "write a nightly's figures as the baselines of its device class");
@@ -114,6 +128,7 @@ int Commands::execute() {
   if (reference_->parsed()) return run_reference_command(reference_options_);
   if (replay_->parsed()) return run_replay_command(replay_options_);
   if (nightly_->parsed()) return run_nightly(nightly_options_);
+  if (nightly_scenario_->parsed()) return run_nightly_scenario(nightly_scenario_options_);
   if (devices_->parsed()) return list_devices_command();
   if (schema_->parsed()) return run_schema_command(schema_options_);
   if (baseline_update_->parsed()) return run_baseline_update(baseline_options_);

@@ -31,7 +31,19 @@ struct NightlyOptions {
   std::filesystem::path junit;    // default <out>/junit.xml
   bool resume = false;            // keep completed scenarios of <out>/summary.json
   bool update_baseline = false;   // write this run's figures as the baseline
+  double scenario_timeout = 3600.0;              // s of wall time per scenario, unless it sets timeout_seconds
+  std::optional<std::uint64_t> memory_limit_mb;  // address-space limit of each scenario's process
 };
+
+// The hidden `giharness nightly-scenario`: one scenario of a nightly, run in
+// the child process the nightly started; its suite row goes to `row`.
+struct NightlyScenarioOptions {
+  std::filesystem::path scenario;
+  std::filesystem::path out_dir;  // the suite's out dir (the scenario's results go to <out>/<name>)
+  std::filesystem::path row;
+  std::optional<int> device;
+};
+int run_nightly_scenario(const NightlyScenarioOptions& options);  // replay/cli/nightly.cpp
 
 struct BaselineUpdateOptions {
   std::filesystem::path from;     // a nightly's out dir
@@ -105,6 +117,8 @@ class Commands {
   CLI::App* bench_ = nullptr;
   CLI::App* replay_ = nullptr;
   CLI::App* schema_ = nullptr;
+  CLI::App* nightly_scenario_ = nullptr;
+  NightlyScenarioOptions nightly_scenario_options_;
   SchemaOptions schema_options_;
   ReplayOptions replay_options_;
   std::filesystem::path scenario_path_;

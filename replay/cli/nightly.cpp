@@ -3,11 +3,17 @@
 // and for the suite, JUnit XML and the HTML report. Exit 1 on a failed check
 // or a regression.
 //
+// Isolation: each scenario runs in a child process of this binary
+// (`giharness nightly-scenario`, hidden), with a wall-time limit and an
+// optional memory limit, its log in <out>/<name>/run.log. A crash, a timeout,
+// a lost device or bad input becomes that scenario's verdict (crashed,
+// timeout, device_error, bad_input) and the night goes on.
+//
 // Interruption: the first SIGINT/SIGTERM lets the running scenario finish,
 // marks the rest "not_run", writes the reports and exits 3; a second one
 // kills at once (every file is written then renamed, so what is on disk stays
 // valid). `--resume` keeps the completed scenarios of <out>/summary.json and
-// runs the rest.
+// runs the rest, and again those that crashed, timed out or lost the device.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -21,8 +27,10 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/json_input.h"
 #include "core/scenario.h"
 #include "gpu/device.h"
+#include "replay/cli/child_process.h"
 #include "replay/cli/commands.h"
 #include "reports/baseline_store.h"
 #include "reports/figures.h"
@@ -72,13 +80,9 @@ std::vector<std::filesystem::path> suite_files(const std::filesystem::path& suit
   return files;
 }
 
-struct ScenarioOutcome {
-  nlohmann::json summary;  // empty when the scenario did not run
-};
-
-// Runs one scenario and fills its suite row.
-ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
-  ScenarioOutcome outcome;
+// Runs one scenario, in this process, and fills its suite row (the child's
+// half of run_isolated).
+void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
   int code = 0;
   row.erase("error");
   try {
@@ -91,7 +95,6 @@ ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions&
     ro.capture_failures = true;  // a failing check leaves a capture of its first failing frame
     const RunResult r = run_scenario(scenario, ro);
     code = r.exit_code;
-    outcome.summary = r.summary;
     row["summary"] = (std::filesystem::path(scenario.name) / "summary.json").string();
     row["checks"] = nlohmann::json::array();
     for (const CheckResult& c : r.checks)
@@ -119,8 +122,86 @@ ScenarioOutcome run_one(const std::filesystem::path& file, const NightlyOptions&
     row["error"] = std::string("internal error: ") + e.what();
   }
   row["exit_code"] = code;
-  row["verdict"] = code == 0 ? "pass" : code == 1 ? "fail" : "error";
-  return outcome;
+  row["verdict"] = code == 0 ? "pass" : code == 1 ? "fail" : code == 2 ? "bad_input" : "error";
+}
+
+// Verdicts that say the scenario gave no result of its own making: --resume
+// runs them again.
+bool retried_on_resume(const nlohmann::json& row) {
+  const std::string v = row.value("verdict", "");
+  return v == "crashed" || v == "timeout" || v == "device_error";
+}
+
+// The wall-time limit of one scenario: its own timeout_seconds, else the
+// suite's. Read with the guarded reader only; a file it refuses is the
+// child's to report as bad input.
+double scenario_timeout(const std::filesystem::path& file, double suite_default) {
+  try {
+    const nlohmann::json doc = read_json_input(file, "a scenario file");
+    if (doc.is_object() && doc.contains("timeout_seconds") && doc["timeout_seconds"].is_number_unsigned() &&
+        doc["timeout_seconds"].get<std::uint64_t>() > 0)
+      return double(doc["timeout_seconds"].get<std::uint64_t>());
+  } catch (const InputError&) {
+  }
+  return suite_default;
+}
+
+// Runs one scenario in a child process and fills its suite row from what
+// the child wrote, or from how it ended when it wrote nothing.
+void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
+  const std::filesystem::path logs = o.out_dir / "logs";
+  std::filesystem::create_directories(logs);
+  const std::string stem = file.stem().string();
+  const std::filesystem::path row_file = logs / (stem + ".row.json"), log = logs / (stem + ".log");
+  std::filesystem::remove(row_file);
+  std::vector<std::string> argv = {self_executable().string(), "nightly-scenario", file.string(), "--out",
+                                   o.out_dir.string(), "--row", row_file.string()};
+  if (o.device) argv.insert(argv.end(), {"--device", std::to_string(*o.device)});
+  ChildLimits limits;
+  limits.wall_seconds = scenario_timeout(file, o.scenario_timeout);
+  if (o.memory_limit_mb) limits.memory_bytes = *o.memory_limit_mb << 20;
+  const ChildEnd end = run_child(argv, log, limits, nullptr);
+
+  for (const char* key : {"error", "checks", "failure_captures", "summary", "log", "log_tail", "reason"}) row.erase(key);
+  nlohmann::json written;
+  if (end.how == ChildEnd::How::exited && std::filesystem::exists(row_file)) {
+    try {
+      written = read_json_input(row_file, "the scenario process's result");
+    } catch (const InputError&) {
+    }
+  }
+  if (written.is_object()) {
+    for (auto it = written.begin(); it != written.end(); ++it) row[it.key()] = it.value();
+  } else {
+    row["exit_code"] = 3;
+    if (end.how == ChildEnd::How::timed_out) {
+      row["verdict"] = "timeout";
+      row["error"] = fmt::format("no result within {:.0f} s (the scenario's timeout_seconds, else --scenario-timeout): "
+                                 "stopped with SIGTERM, then SIGKILL",
+                                 limits.wall_seconds);
+    } else if (end.how == ChildEnd::How::signalled) {
+      row["verdict"] = "crashed";
+      row["error"] = "the scenario's process was killed by " + signal_name(end.signal) +
+                     (end.signal == SIGKILL && limits.memory_bytes
+                          ? fmt::format(" (out of memory? its limit was {} MiB)", *o.memory_limit_mb)
+                          : std::string());
+    } else {
+      row["verdict"] = "crashed";
+      row["error"] = fmt::format("the scenario's process exited with code {} and left no result", end.exit_code);
+    }
+  }
+  std::filesystem::remove(row_file);
+  // The log goes beside the scenario's results when it got that far.
+  std::filesystem::path kept = log;
+  if (row.contains("name") && row["name"].is_string() && !row["name"].get<std::string>().empty()) {
+    const std::filesystem::path dir = o.out_dir / row["name"].get<std::string>();
+    std::filesystem::create_directories(dir);
+    kept = dir / "run.log";
+    std::filesystem::rename(log, kept);
+  }
+  row["log"] = std::filesystem::relative(kept, o.out_dir).string();
+  const std::string verdict = row.value("verdict", "");
+  if (verdict != "pass" && verdict != "fail") row["log_tail"] = tail_of_file(kept, 20);
 }
 
 // Compares a completed scenario with its baseline; a regression makes the
@@ -194,7 +275,7 @@ int run_nightly(const NightlyOptions& o) {
   std::map<std::string, nlohmann::json> done;
   if (suite.is_object())
     for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
-      if (row.value("status", "") == "complete" &&
+      if (row.value("status", "") == "complete" && !retried_on_resume(row) &&
           (!row.contains("summary") || std::filesystem::exists(o.out_dir / row["summary"].get<std::string>())))
         done[row.value("file", "")] = row;
 
@@ -222,27 +303,26 @@ int run_nightly(const NightlyOptions& o) {
     if (stop.requested()) break;
     const auto t0 = std::chrono::steady_clock::now();
     spdlog::info("[{}/{}] {} ...", k, files.size(), row["file"].get<std::string>());
-    // A hung or lost GPU ends the process (see Device::submit_and_wait):
-    // mark this scenario and keep the suite summary valid first.
-    gpu::Device::set_fault_handler([&](const std::string& message) {
-      row["status"] = "device_error";
-      row["exit_code"] = 3;
-      row["verdict"] = "error";
-      row["error"] = message;
-      suite["interrupted"] = true;
-      write_json_file(summary_path, suite);
-    });
-    const ScenarioOutcome outcome = run_one(row["file"].get<std::string>(), o, row);
-    gpu::Device::set_fault_handler(nullptr);
-    if (!outcome.summary.is_null()) {
-      const nlohmann::json device = outcome.summary.value("device", nlohmann::json::object());
-      const std::string cls = device_class(device);
-      if (!suite.contains("device") && !device.empty()) {
-        suite["device"] = device;
-        suite["device_class"] = cls;
+    run_isolated(row["file"].get<std::string>(), o, row);
+    if (row.contains("summary")) {
+      nlohmann::json summary;
+      try {
+        summary = read_json_input(o.out_dir / row["summary"].get<std::string>(), "the scenario's summary.json");
+      } catch (const InputError& e) {
+        row["error"] = e.what();
+        row["exit_code"] = 3;
+        row["verdict"] = "error";
       }
-      compare_row(outcome.summary, o.baseline_dir / cls, row);
-      if (o.update_baseline) write_baseline(o.baseline_dir / cls, outcome.summary);
+      if (summary.is_object()) {
+        const nlohmann::json device = summary.value("device", nlohmann::json::object());
+        const std::string cls = device_class(device);
+        if (!suite.contains("device") && !device.empty()) {
+          suite["device"] = device;
+          suite["device_class"] = cls;
+        }
+        compare_row(summary, o.baseline_dir / cls, row);
+        if (o.update_baseline) write_baseline(o.baseline_dir / cls, summary);
+      }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     row["wall_seconds"] = json_figure(seconds);
@@ -265,6 +345,8 @@ int run_nightly(const NightlyOptions& o) {
                  std::count_if(suite["scenarios"].begin(), suite["scenarios"].end(),
                                [](const nlohmann::json& r) { return r["status"] != "complete"; }));
   }
+  std::error_code ec;
+  std::filesystem::remove(o.out_dir / "logs", ec);  // only if empty: logs of scenarios that never got a name stay
   suite["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   if (!suite.contains("device_class")) suite["device_class"] = "unknown";
   const std::filesystem::path class_dir = o.baseline_dir / suite["device_class"].get<std::string>();
@@ -285,6 +367,25 @@ int run_nightly(const NightlyOptions& o) {
   spdlog::info("suite {}: exit {}, {} regressions; report {}; junit {}", suite["verdict"].get<std::string>(), code,
                regressions, (o.out_dir / "report.html").string(), suite["junit"].get<std::string>());
   return code;
+}
+
+int run_nightly_scenario(const NightlyScenarioOptions& o) {
+  nlohmann::json row = {{"file", o.scenario.string()}};
+  // A hung or lost GPU ends this process (Device::submit_and_wait): leave the
+  // nightly a row that says so first.
+  gpu::Device::set_fault_handler([&](const std::string& message) {
+    row["exit_code"] = 3;
+    row["verdict"] = "device_error";
+    row["error"] = message;
+    write_json_file(o.row, row);
+  });
+  NightlyOptions options;
+  options.out_dir = o.out_dir;
+  options.device = o.device;
+  run_one(o.scenario, options, row);
+  gpu::Device::set_fault_handler(nullptr);
+  write_json_file(o.row, row);
+  return row["exit_code"].get<int>();
 }
 
 int run_baseline_update(const BaselineUpdateOptions& o) {

@@ -1,0 +1,120 @@
+// Nothing one scenario does takes the night down (issue 22): the nightly runs
+// each scenario in a process of its own, so a hostile file, a crash, a hang
+// and a lost device each become that scenario's verdict, the others pass,
+// and the summary, the report and JUnit are written. The faults are forced
+// with GIHARNESS_TEST_FAULT=<kind>@<frame>:<scenario> (replay/test_faults.h).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "tests/test_support.h"
+
+namespace gi {
+namespace {
+
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The tiny suite's three scenarios: tiny_cornell, tiny_light_toggle (the one
+// the faults aim at), tiny_no_blocks; `middle` replaces the second file.
+std::filesystem::path suite_of_three(const std::filesystem::path& dir, const std::string& middle = "") {
+  const std::filesystem::path suite = dir / "suite", tiny = test::source_dir() / "tests/data/suites/tiny";
+  std::filesystem::create_directories(suite);
+  std::filesystem::copy_file(tiny / "tiny_cornell.json", suite / "1_tiny_cornell.json");
+  if (middle.empty())
+    std::filesystem::copy_file(tiny / "tiny_light_toggle.json", suite / "2_tiny_light_toggle.json");
+  else
+    std::ofstream(suite / "2_hostile.json", std::ios::binary) << middle;
+  std::filesystem::copy_file(tiny / "tiny_no_blocks.json", suite / "3_tiny_no_blocks.json");
+  return suite;
+}
+
+struct Night {
+  test::CommandResult result;
+  nlohmann::json summary;
+};
+
+Night nightly(const test::TempDir& dir, const std::filesystem::path& suite, const std::string& env,
+              const std::string& extra = "") {
+  const std::filesystem::path out = dir.path() / "out";
+  Night n;
+  n.result = test::run_giharness("nightly --suite " + suite.string() + " --out " + out.string() + " --baseline " +
+                                     (dir.path() / "none").string() + " " + extra,
+                                 env);
+  n.summary = test::read_json(out / "summary.json");
+  return n;
+}
+
+// Scenarios 1 and 3 pass; the middle one ends as `verdict` with `reason` in
+// its error, its log's tail kept; the suite's exit code is `code`; the report
+// and JUnit (an <error>, not a <failure>) are there.
+void expect_middle_only(const test::TempDir& dir, const Night& n, const std::string& verdict, const std::string& reason,
+                        int code) {
+  ASSERT_EQ(n.summary["scenarios"].size(), 3u) << n.result.output;
+  EXPECT_EQ(n.result.exit_code, code) << n.result.output;
+  EXPECT_FALSE(n.summary.value("interrupted", false));
+  for (int i : {0, 2}) EXPECT_EQ(n.summary["scenarios"][i]["verdict"], "pass") << n.summary["scenarios"][i].dump(1);
+  const nlohmann::json& row = n.summary["scenarios"][1];
+  EXPECT_EQ(row["status"], "complete");
+  EXPECT_EQ(row["verdict"], verdict) << row.dump(1);
+  EXPECT_NE(row.value("error", "").find(reason), std::string::npos) << row.dump(1);
+  EXPECT_TRUE(row.contains("log_tail")) << row.dump(1);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out" / row.value("log", "?"))) << row.dump(1);
+  const std::string junit = slurp(dir.path() / "out/junit.xml");
+  EXPECT_NE(junit.find("<error"), std::string::npos) << junit;
+  EXPECT_NE(slurp(dir.path() / "out/report.html").find(verdict), std::string::npos);
+}
+
+TEST(NightlyIsolation, AHostileScenarioIsBadInputAndTheNightGoesOn) {
+  const test::TempDir dir("isolation-hostile");
+  const std::string deep = "{\"name\": \"deep\", \"description\": " + std::string(60000, '[') +
+                           std::string(60000, ']') + ", \"scene\": {\"generator\": \"cornell_box\"}, " +
+                           "\"resolution\": [8, 8], \"frames\": 1}";
+  const Night n = nightly(dir, suite_of_three(dir.path(), deep), "");
+  expect_middle_only(dir, n, "bad_input", "nested at most 256 deep", 2);
+  EXPECT_EQ(n.summary["scenarios"][1]["exit_code"], 2);
+}
+
+TEST(NightlyIsolation, ACrashIsThatScenariosVerdict) {
+  const test::TempDir dir("isolation-crash");
+  const Night n = nightly(dir, suite_of_three(dir.path()), "GIHARNESS_TEST_FAULT=crash@3:tiny_light_toggle");
+  expect_middle_only(dir, n, "crashed", "SIGSEGV", 3);
+}
+
+TEST(NightlyIsolation, AHangEndsAsTimeout) {
+  const test::TempDir dir("isolation-hang");
+  // The tiny scenarios take about a second each on lavapipe; the hung one is
+  // stopped after 8 s.
+  const Night n = nightly(dir, suite_of_three(dir.path()), "GIHARNESS_TEST_FAULT=hang@3:tiny_light_toggle",
+                          "--scenario-timeout 8");
+  expect_middle_only(dir, n, "timeout", "no result within 8 s", 3);
+  EXPECT_LT(n.summary["scenarios"][1]["wall_seconds"].get<double>(), 20.0);
+}
+
+// A lost device is that scenario's verdict, and --resume runs it again.
+TEST(NightlyIsolation, ADeviceLossIsThatScenariosVerdictAndResumeRetriesIt) {
+  const test::TempDir dir("isolation-device");
+  const std::filesystem::path suite = suite_of_three(dir.path());
+  const Night n = nightly(dir, suite, "GIHARNESS_TEST_FAULT=device_lost@3:tiny_light_toggle");
+  expect_middle_only(dir, n, "device_error", "device lost (forced", 3);
+
+  const Night resumed = nightly(dir, suite, "", "--resume");
+  EXPECT_EQ(resumed.result.exit_code, 0) << resumed.result.output;
+  EXPECT_NE(resumed.result.output.find("resuming: 2 of 3"), std::string::npos) << resumed.result.output;
+  for (const nlohmann::json& row : resumed.summary["scenarios"]) EXPECT_EQ(row["verdict"], "pass") << row.dump(1);
+}
+
+TEST(NightlyIsolation, AScenariosOwnTimeoutWinsOverTheSuites) {
+  const test::TempDir dir("isolation-own-timeout");
+  std::string toggle = slurp(test::source_dir() / "tests/data/suites/tiny/tiny_light_toggle.json");
+  toggle.insert(toggle.find('{') + 1, "\n  \"timeout_seconds\": 3,");
+  const Night n = nightly(dir, suite_of_three(dir.path(), toggle), "GIHARNESS_TEST_FAULT=hang@3:tiny_light_toggle",
+                          "--scenario-timeout 600");
+  expect_middle_only(dir, n, "timeout", "no result within 3 s", 3);
+}
+
+}  // namespace
+}  // namespace gi
