@@ -156,7 +156,9 @@ TEST(ClusterIds, RenderedSpawnsFlagTheOverflowBeforeAnyWrongPixel) {
   for (const nlohmann::json& f : r.summary["frames"]) {
     const std::uint32_t frame = f["frame"];
     EXPECT_EQ(f["cluster_ids"]["over_limit"], frame >= overflow_frame) << frame;
-    if (frame < overflow_frame) EXPECT_EQ(f["cluster_ids"]["decode_mismatches"], 0u) << frame;
+    if (frame < overflow_frame) {
+      EXPECT_EQ(f["cluster_ids"]["decode_mismatches"], 0u) << frame;
+    }
   }
   const gi::RunResult ok = run(gi::load_scenario(kScenarios / "cluster_ids_cliffs_below_limit.json"), dir.path() / "ok");
   EXPECT_EQ(ok.exit_code, 0) << ok.checks.back().message;

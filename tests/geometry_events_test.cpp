@@ -155,8 +155,12 @@ TEST_P(HiddenGeometry, EveryStateBufferMatchesTheRunWithoutTheEvents) {
   // The passes' host state after the spawn frame: history valid.
   const json manifest = test::read_json(b5 / "manifest.json");
   for (const json& e : manifest["host_state"]) {
-    if (e["name"] == "di/flags") EXPECT_EQ(e["words"][1], 1u);
-    if (e["name"] == "gi/flags") EXPECT_EQ(e["words"][0], 1u);
+    if (e["name"] == "di/flags") {
+      EXPECT_EQ(e["words"][1], 1u);
+    }
+    if (e["name"] == "gi/flags") {
+      EXPECT_EQ(e["words"][0], 1u);
+    }
   }
 
   // Replays stay bit-exact: from before the spawn (the replay applies it) and

@@ -70,12 +70,12 @@ enum class FrameInput {
 struct CheckNeeds {
   std::set<FrameInput> reads;
   // The frames observe() is called on; none: every frame.
-  std::optional<std::set<std::uint32_t>> frames;
+  std::optional<std::set<std::uint32_t>> frames = {};
   bool gbuffer = false;           // the G-buffer (cluster IDs, instance channel)
   bool two_chains = false;        // a second independent realtime chain
   bool cache_root_frame = false;  // the world cache's root-frame instrumentation
   bool record_hashes = false;     // per-frame state hashes (buffer_hashes.jsonl)
-  std::set<std::uint32_t> captures;  // frames captured for the check
+  std::set<std::uint32_t> captures = {};  // frames captured for the check
   // Realtime accumulation windows start this many frames into each static window.
   std::uint32_t warmup_frames = 0;
 };
