@@ -52,10 +52,12 @@ std::vector<Plot> per_frame_plots(const std::string& scenario, const nlohmann::j
       } else if (value.is_object()) {
         Plot& p = grouped[key];
         if (p.title.empty()) p = {scenario + ": " + key, "frame", key, false, false, {}};
-        for (const auto& [sub, v] : value.items()) {
+        for (const auto& item : value.items()) {
+          // (Not a structured binding: clang 14, the fuzz build's compiler, cannot capture one.)
+          const std::string sub = item.key();
           auto it = std::find_if(p.series.begin(), p.series.end(), [&](const PlotSeries& s) { return s.title == sub; });
           if (it == p.series.end()) it = p.series.insert(p.series.end(), PlotSeries{sub, {}, {}, true});
-          it->points.emplace_back(x, number_or_nan(v));
+          it->points.emplace_back(x, number_or_nan(item.value()));
         }
       }
     }
