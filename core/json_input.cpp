@@ -122,7 +122,8 @@ struct PositionTracker {
     std::set<std::string> keys;
   };
   std::vector<Level> levels;
-  std::string duplicate;  // the first key found twice
+  bool has_duplicate = false;
+  std::string duplicate;  // the first key found twice (may be "")
   std::string duplicate_at;
   int error_id = 0;  // nlohmann's exception id (101.. parse errors, 406 a number out of range)
   std::size_t error_byte = 0;
@@ -171,6 +172,7 @@ struct PositionTracker {
     Level& l = levels.back();
     l.key = k;
     if (!l.keys.insert(k).second) {
+      has_duplicate = true;
       duplicate = k;
       duplicate_at = pointer(true);
       return false;  // stops the pass
@@ -194,7 +196,7 @@ json parse_json_input(std::string_view text, const std::string& file, const Json
   scan_bytes(text, file, limits);
   PositionTracker at;
   json::sax_parse(text, &at);
-  if (!at.duplicate.empty())
+  if (at.has_duplicate)
     throw InputError(file, at.duplicate_at, "expected each key once in its object; \"" + at.duplicate + "\" is there twice");
   if (at.error_id == 406)  // out_of_range: a number past a double's range
     throw InputError(file, at.error_at, "expected a number a double holds (" + at.error_text + ")");
@@ -208,7 +210,11 @@ json parse_json_input(std::string_view text, const std::string& file, const Json
                      fmt::format("expected valid JSON; {}: {}", line_column(text, at.error_byte == 0 ? 0 : at.error_byte - 1),
                                  detail));
   }
-  return json::parse(text);  // checked above: no exception left to throw
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {  // the SAX pass saw it all; this would be a bug of ours
+    throw InputError(file, "", std::string("expected valid JSON (") + e.what() + ")");
+  }
 }
 
 json read_json_input(const std::filesystem::path& file, const std::string& what, const JsonLimits& limits) {

@@ -87,6 +87,9 @@ TEST(JsonInput, DepthIsLimitedExactlyAndNamedByPointer) {
 TEST(JsonInput, DuplicateKeysAreRefusedPerObject) {
   EXPECT_EQ(failure("{\"a\": {\"x\": 1}, \"b\": {\"x\": 2}}"), "accepted");  // one per object is fine
   EXPECT_EQ(failure("[{\"x\": 1}, {\"y\": 1, \"y\": 2}]"), "/1/y | expected each key once in its object; \"y\" is there twice");
+  // The empty key too (found by the fuzzer: it used to slip through to the
+  // plain parse, whose exception was uncaught).
+  EXPECT_EQ(failure("{\"\": 1, \"\"x\"}"), "/ | expected each key once in its object; \"\" is there twice");
 }
 
 TEST(JsonInput, NumbersPastADoubleAreRefusedAtTheirElement) {
