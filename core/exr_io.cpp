@@ -13,6 +13,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <Imath/half.h>
 
 #include "core/errors.h"
 
@@ -35,7 +36,8 @@ std::filesystem::path temp_sibling(const std::filesystem::path& path) {
 
 }  // namespace
 
-void write_exr(const std::filesystem::path& path, const std::vector<std::pair<std::string, const Image*>>& layers) {
+void write_exr(const std::filesystem::path& path, const std::vector<std::pair<std::string, const Image*>>& layers,
+               ExrPixels pixels) {
   if (layers.empty()) throw std::invalid_argument("write_exr: no layers for " + path.string());
   const std::uint32_t w = layers.front().second->width, h = layers.front().second->height;
   if (w == 0 || h == 0) throw std::invalid_argument("write_exr: empty image for " + path.string());
@@ -50,14 +52,24 @@ void write_exr(const std::filesystem::path& path, const std::vector<std::pair<st
   Imf::Header header(static_cast<int>(w), static_cast<int>(h));
   header.compression() = Imf::ZIP_COMPRESSION;
   Imf::FrameBuffer fb;
-  const std::size_t xs = sizeof(glm::vec3), ys = sizeof(glm::vec3) * w;
+  const bool half = pixels == ExrPixels::half;
+  const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+  const std::size_t component = half ? sizeof(Imath::half) : sizeof(float);
+  const std::size_t xs = 3 * component, ys = 3 * component * w;
+  std::vector<std::vector<Imath::half>> halves;  // the half copies the slices point into
   for (const auto& [name, image] : layers) {
     // OpenEXR's Slice takes a non-const pointer; writing only reads through it.
     char* base = const_cast<char*>(reinterpret_cast<const char*>(image->pixels.data()));
+    if (half) {
+      std::vector<Imath::half>& copy = halves.emplace_back(image->size() * 3);
+      for (std::size_t i = 0; i < image->size(); ++i)
+        for (int c = 0; c < 3; ++c) copy[3 * i + c] = Imath::half(image->pixels[i][c]);
+      base = reinterpret_cast<char*>(copy.data());
+    }
     for (int c = 0; c < 3; ++c) {
       const std::string ch = channel_name(name, kComponents[c]);
-      header.channels().insert(ch, Imf::Channel(Imf::FLOAT));
-      fb.insert(ch, Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+      header.channels().insert(ch, Imf::Channel(type));
+      fb.insert(ch, Imf::Slice(type, base + c * component, xs, ys));
     }
   }
 

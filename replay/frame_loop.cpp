@@ -197,8 +197,15 @@ void FrameLoop::run() {
       if (!needs.frames || needs.frames->count(frame))
         setup_.checks[i]->observe(FrameView(data, needs.reads), record);
     }
+    frame_image_hashes_.push_back(bytes_hash(output_.pixels.data(), output_.pixels.size() * sizeof(glm::vec3)));
     frame_log_.add(record);
-    if (hash_log_) hash_log_->add(state_hashes(frame));
+    const bool last = frame + 1 == setup_.frames;
+    if (hash_log_ || last) {
+      const nlohmann::json hashes = state_hashes(frame);
+      if (hash_log_) hash_log_->add(hashes);
+      if (last)
+        for (const nlohmann::json& b : hashes["buffers"]) final_state_hashes_[b[0].get<std::string>()] = b[1];
+    }
     if (setup_.captures.count(frame)) capture(frame);
     if (!options_.quiet && (frame + 1) % 16 == 0)
       spdlog::info("{}: frame {}/{}", scenario_.name, frame + 1, setup_.frames);

@@ -39,6 +39,11 @@ class FrameLoop {
   const std::vector<std::uint32_t>& captured_frames() const { return captured_frames_; }
   // summary.json's "noise": per-frame chain noise and temporal noise (realtime).
   nlohmann::json noise() const { return noise_; }
+  // What a baseline holds to be exact (reports/change.h): the output image's
+  // hash per frame (from first_frame()), and every state buffer's hash after
+  // the last frame (one readback of the state, at the end only).
+  const std::vector<std::string>& frame_image_hashes() const { return frame_image_hashes_; }
+  const nlohmann::json& final_state_hashes() const { return final_state_hashes_; }
 
  private:
   void build_renderer();  // the renderer for geometry_, the checks prepared, scene_'s instances uploaded
@@ -73,6 +78,8 @@ class FrameLoop {
   TemporalNoise temporal_noise_;
   nlohmann::json noise_ = nullptr;
   std::vector<std::uint32_t> captured_frames_;
+  std::vector<std::string> frame_image_hashes_;
+  nlohmann::json final_state_hashes_ = nlohmann::json::object();
 };
 
 }  // namespace gi

@@ -6,6 +6,8 @@
 #include <xxhash.h>
 
 #include "core/atomic_file.h"
+#include "core/exr_io.h"
+#include "reports/change.h"
 #include "replay/capture.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
@@ -62,6 +64,15 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   add_frames(run.loop.frame_log(), s);
   const Image& last = run.loop.last_output();
   s["final_image_hash"] = hash_of(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
+  // What a baseline keeps to report any change exactly (reports/change.h):
+  // the image hash per frame, every state buffer's hash after the last frame,
+  // and the final image (half-float EXR: a baseline stores it, and the
+  // comparison then reads both sides at the same precision).
+  s["hashes"] = {{"first_frame", run.loop.first_frame()},
+                 {"frame_images", run.loop.frame_image_hashes()},
+                 {"final_buffers", run.loop.final_state_hashes()}};
+  write_exr(run.options.out_dir / kFinalImageFile, {{"", &last}}, ExrPixels::half);
+  s["final_image"] = kFinalImageFile;
   s["noise"] = run.loop.noise();
   if (setup.renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.

@@ -1,9 +1,14 @@
 #include "reports/baseline_store.h"
 
-#include <fstream>
+#include <algorithm>
+#include <functional>
+
+#include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/json_input.h"
+#include "reports/change.h"
 
 namespace gi {
 
@@ -11,17 +16,30 @@ std::filesystem::path baseline_file(const std::filesystem::path& class_dir, cons
   return class_dir / (scenario + ".json");
 }
 
-std::optional<ScenarioFigures> read_baseline(const std::filesystem::path& class_dir, const std::string& scenario) {
+std::filesystem::path baseline_image_file(const std::filesystem::path& class_dir, const std::string& scenario) {
+  return class_dir / (scenario + ".exr");
+}
+
+std::optional<nlohmann::json> read_baseline_document(const std::filesystem::path& class_dir,
+                                                     const std::string& scenario) {
   const std::filesystem::path file = baseline_file(class_dir, scenario);
   if (!std::filesystem::exists(file)) return std::nullopt;
+  return read_json_input(file, "a baseline");
+}
+
+std::optional<ScenarioFigures> read_baseline(const std::filesystem::path& class_dir, const std::string& scenario) {
+  const std::optional<nlohmann::json> doc = read_baseline_document(class_dir, scenario);
+  if (!doc) return std::nullopt;
   try {
-    return ScenarioFigures::from_json(nlohmann::json::parse(std::ifstream(file)));
+    return ScenarioFigures::from_json(*doc);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string(), "", std::string("a baseline with \"figures\" and \"verdicts\" (") + e.what() + ")");
+    throw InputError(baseline_file(class_dir, scenario).string(), "",
+                     std::string("a baseline with \"figures\" and \"verdicts\" (") + e.what() + ")");
   }
 }
 
-void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json& s) {
+void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json& s,
+                    const std::filesystem::path& run_dir) {
   const std::string name = s.at("scenario").at("name");
   nlohmann::json doc = extract_figures(s).to_json();
   doc["scenario"] = name;
@@ -34,7 +52,48 @@ void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json
   for (const char* key : {"resolution", "frames", "seed", "mode", "samples_per_frame", "profile", "overrides", "backend"})
     if (resolved.contains(key)) doc["resolved"][key] = resolved[key];
   doc["final_image_hash"] = s.value("final_image_hash", "");
+  if (s.contains("hashes")) doc["hashes"] = s["hashes"];
+  const std::filesystem::path image = run_dir / s.value("final_image", kFinalImageFile);
+  if (std::filesystem::exists(image)) {
+    std::filesystem::create_directories(class_dir);
+    write_atomically(baseline_image_file(class_dir, name), [&](const std::filesystem::path& tmp) {
+      std::filesystem::copy_file(image, tmp, std::filesystem::copy_options::overwrite_existing);
+    });
+    doc["image"] = baseline_image_file(class_dir, name).filename().string();
+  } else {
+    std::error_code ec;
+    std::filesystem::remove(baseline_image_file(class_dir, name), ec);  // never an image of another run
+  }
   write_json_file(baseline_file(class_dir, name), doc);
+}
+
+ImageBudget enforce_image_budget(const std::filesystem::path& class_dir, double budget_mb) {
+  ImageBudget out;
+  if (!std::filesystem::is_directory(class_dir)) return out;
+  std::vector<std::pair<std::uintmax_t, std::filesystem::path>> images;
+  for (const auto& entry : std::filesystem::directory_iterator(class_dir))
+    if (entry.is_regular_file() && entry.path().extension() == ".exr") {
+      images.emplace_back(entry.file_size(), entry.path());
+      out.bytes += entry.file_size();
+    }
+  std::sort(images.begin(), images.end(), std::greater<>());
+  const double budget = budget_mb * 1024 * 1024;
+  for (const auto& [bytes, path] : images) {
+    if (double(out.bytes) <= budget) break;
+    const std::string scenario = path.stem().string();
+    const std::filesystem::path json = baseline_file(class_dir, scenario);
+    if (std::filesystem::exists(json)) {
+      nlohmann::json doc = read_json_input(json, "a baseline");
+      doc.erase("image");
+      doc["image_dropped"] = fmt::format("the images of {} exceeded the {} MB budget; the largest ({} bytes) went first",
+                                         class_dir.string(), budget_mb, bytes);
+      write_json_file(json, doc);
+    }
+    std::filesystem::remove(path);
+    out.bytes -= bytes;
+    out.dropped.push_back(scenario);
+  }
+  return out;
 }
 
 }  // namespace gi

@@ -96,6 +96,9 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .verdict.fail, .verdict.regressed, .verdict.missing, .verdict.error, .verdict.bad-input, .verdict.crashed,
 .verdict.timeout, .verdict.device-error { background: #fbd5d5; color: #8a1010; }
 .verdict.inconclusive, .verdict.not-run, .verdict.interrupted, .verdict.no-baseline { background: #fff0c2; color: #6b5200; }
+.verdict.unchanged { background: #e4ecf7; color: #22406b; }
+.verdict.changed { background: #f3dcf7; color: #6a1b7a; }
+.verdict.no-exact-baseline { background: #eeeeee; color: #555555; }
 .triplet { display: flex; gap: 12px; flex-wrap: wrap; }
 .triplet figure { margin: 0; } .triplet figcaption { font-size: 12px; color: #555; }
 img.preview { width: 256px; image-rendering: pixelated; border: 1px solid #999; }

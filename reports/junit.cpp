@@ -16,13 +16,20 @@ std::string describe(const nlohmann::json& r) {
 struct Case {
   std::string classname, name, failure, failure_text, error, skipped;
   double seconds = 0;
+  std::vector<std::pair<std::string, std::string>> properties;
 };
 
 std::string render(const Case& c) {
   std::string out = fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.3f}\"", xml_escape(c.classname),
                                 xml_escape(c.name), c.seconds);
-  if (c.failure.empty() && c.error.empty() && c.skipped.empty()) return out + "/>\n";
+  if (c.failure.empty() && c.error.empty() && c.skipped.empty() && c.properties.empty()) return out + "/>\n";
   out += ">\n";
+  if (!c.properties.empty()) {
+    out += "      <properties>\n";
+    for (const auto& [name, value] : c.properties)
+      out += fmt::format("        <property name=\"{}\" value=\"{}\"/>\n", xml_escape(name), xml_escape(value));
+    out += "      </properties>\n";
+  }
   if (!c.failure.empty())
     out += fmt::format("      <failure message=\"{}\">{}</failure>\n", xml_escape(c.failure), xml_escape(c.failure_text));
   if (!c.error.empty()) out += fmt::format("      <error message=\"{}\"/>\n", xml_escape(c.error));
@@ -58,18 +65,18 @@ std::string junit_xml(const nlohmann::json& suite) {
     const double seconds = wall.is_number() ? wall.get<double>() : 0.0;
     const std::string status = row.value("status", "complete");
     if (status != "complete") {
-      cases.push_back({scenario, "run", "", "", "", "not run: " + status, 0});
+      cases.push_back({scenario, "run", "", "", "", "not run: " + status, 0, {}});
       continue;
     }
     if (row.contains("error")) {
-      cases.push_back({scenario, "run", "", "", row["error"].get<std::string>(), "", seconds});
+      cases.push_back({scenario, "run", "", "", row["error"].get<std::string>(), "", seconds, {}});
       continue;
     }
     const nlohmann::json regressions = row.value("regressions", nlohmann::json::array());
     std::vector<bool> attributed(regressions.size(), false);
     const nlohmann::json checks = row.value("checks", nlohmann::json::array());
     for (const nlohmann::json& c : checks) {
-      Case k{scenario, c.value("name", "?"), "", "", "", "", seconds / double(checks.size() + 1)};
+      Case k{scenario, c.value("name", "?"), "", "", "", "", seconds / double(checks.size() + 1), {}};
       if (c.value("verdict", "fail") != "pass") {
         k.failure = fmt::format("{}: {}", c.value("verdict", "fail"), c.value("message", ""));
         k.failure_text = "limits: " + c.value("limits", nlohmann::json::object()).dump() + "\n";
@@ -85,12 +92,34 @@ std::string junit_xml(const nlohmann::json& suite) {
       cases.push_back(k);
     }
     const std::string comparison = row.value("baseline_status", "no_baseline");
-    Case b{scenario, "baseline", "", "", "", "", seconds / double(checks.size() + 1)};
+    Case b{scenario, "baseline", "", "", "", "", seconds / double(checks.size() + 1), {}};
     if (comparison != "compared") b.skipped = "no baseline for this scenario and device class";
     for (std::size_t i = 0; i < regressions.size(); ++i) {
       if (attributed[i]) continue;
       if (b.failure.empty()) b.failure = "regression: " + describe(regressions[i]);
       b.failure_text += describe(regressions[i]) + "\n";
+    }
+    // Bits against the exact baseline (reports/change.h): properties, and a
+    // failure only under --fail-on-change.
+    if (row.contains("change")) {
+      const nlohmann::json& c = row["change"];
+      b.properties.push_back({"change", c.value("status", "no_exact_baseline")});
+      if (c.contains("reason")) b.properties.push_back({"change_reason", c["reason"].get<std::string>()});
+      if (c.value("status", "") == "changed") {
+        const nlohmann::json image = c.value("image", nlohmann::json());
+        b.properties.push_back({"change_first_differing_frame", figure_text(c.value("first_differing_frame", nlohmann::json()))});
+        b.properties.push_back({"change_differing_buffers", c.value("differing_buffers", nlohmann::json::array()).dump()});
+        if (image.is_object()) {
+          b.properties.push_back({"change_relmse", figure_text(image.value("relmse", nlohmann::json()))});
+          b.properties.push_back({"change_energy_ratio", figure_text(image.value("energy_ratio", nlohmann::json()))});
+        }
+        if (c.value("fails", false)) {
+          b.skipped.clear();
+          if (b.failure.empty()) b.failure = "changed against the exact baseline (--fail-on-change)";
+          b.failure_text += "changed: first differing frame " + figure_text(c.value("first_differing_frame", nlohmann::json())) +
+                            ", differing buffers " + c.value("differing_buffers", nlohmann::json::array()).dump() + "\n";
+        }
+      }
     }
     cases.push_back(b);
   }

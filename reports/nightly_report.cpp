@@ -1,5 +1,7 @@
 #include "reports/nightly_report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 
@@ -170,6 +172,86 @@ std::string image_section(const std::filesystem::path& scenario_dir, const std::
   return out.empty() ? "<p class=\"note\">no images</p>" : out;
 }
 
+// An energy ratio a hair from 1 reads better as a signed percentage.
+std::string energy_change(const nlohmann::json& image) {
+  if (!image.is_object() || !image.value("energy_ratio", nlohmann::json()).is_number()) return html_figure(nullptr);
+  return fmt::format("{:+.3g} %", (image["energy_ratio"].get<double>() - 1.0) * 100.0);
+}
+
+// The row's change against its exact baseline (reports/change.h): what
+// differs, by how much, and the baseline, current and difference images.
+std::string change_section(const std::filesystem::path& out_dir, const nlohmann::json& change) {
+  const std::string status = change.value("status", "no_exact_baseline");
+  std::string out = "<p>" + html_verdict(status);
+  if (change.contains("reason")) out += " " + html_escape(change["reason"].get<std::string>());
+  if (status != "changed") return out + "</p>\n";
+  out += change.value("fails", false) ? " (fails: --fail-on-change)" : " (not a failure; --fail-on-change makes it one)";
+  out += "</p>\n";
+  const nlohmann::json image = change.value("image", nlohmann::json());
+  std::vector<std::vector<std::string>> rows = {
+      {"first frame whose image differs", html_figure(change.value("first_differing_frame", nlohmann::json())) +
+                                              " (of " + html_figure(change.value("frames_compared", 0)) + " compared)"},
+      {"state buffers that differ after the last frame",
+       html_escape(change.value("differing_buffers", nlohmann::json::array()).dump()) + " of " +
+           html_figure(change.value("buffers_compared", 0))}};
+  for (const char* key : {"added_buffers", "removed_buffers"})
+    if (!change.value(key, nlohmann::json::array()).empty())
+      rows.push_back({key, html_escape(change[key].dump())});
+  if (image.is_object())
+    for (const char* key : {"relmse", "energy_ratio", "max_abs_difference", "pixels_differing", "heat_scale"})
+      rows.push_back({std::string("final image: ") + key, key == std::string("energy_ratio")
+                                                              ? energy_change(image)
+                                                              : html_figure(image.value(key, nlohmann::json()))});
+  if (change.contains("image_note")) rows.push_back({"note", html_escape(change["image_note"].get<std::string>())});
+  out += html_table({"", ""}, rows);
+  const nlohmann::json images = change.value("images", nlohmann::json::object());
+  if (!images.empty()) {
+    out += "<div class=\"triplet\">";
+    for (const auto& [key, caption] : std::vector<std::pair<std::string, std::string>>{
+             {"baseline", "baseline"},
+             {"current", "this run"},
+             {"difference", fmt::format("|Δ luminance|, white at {}", html_figure(image.value("heat_scale", 0.0)))}})
+      if (images.contains(key))
+        out += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>",
+                           html_image_file(out_dir / images[key].get<std::string>(), key), caption);
+    out += "</div>\n";
+  }
+  return out;
+}
+
+double change_relmse(const nlohmann::json& row) {
+  const nlohmann::json image = row.value("change", nlohmann::json::object()).value("image", nlohmann::json());
+  return image.is_object() ? number_or_nan(image.value("relmse", nlohmann::json())) : std::nan("");
+}
+
+// The changed scenarios, largest relMSE against the baseline first (those
+// without an image comparison last).
+std::string changed_list(const std::vector<nlohmann::json>& rows) {
+  std::vector<const nlohmann::json*> changed;
+  for (const nlohmann::json& r : rows)
+    if (r.value("change", nlohmann::json::object()).value("status", "") == "changed") changed.push_back(&r);
+  if (changed.empty()) return "<p>no scenario's bits changed against an exact baseline</p>\n";
+  std::stable_sort(changed.begin(), changed.end(), [](const nlohmann::json* a, const nlohmann::json* b) {
+    const double ea = change_relmse(*a), eb = change_relmse(*b);
+    return std::isnan(eb) ? !std::isnan(ea) : ea > eb;
+  });
+  std::vector<std::vector<std::string>> table;
+  for (const nlohmann::json* r : changed) {
+    const nlohmann::json& c = (*r)["change"];
+    const nlohmann::json image = c.value("image", nlohmann::json());
+    const std::string name = r->value("name", "?");
+    table.push_back({"<a href=\"#" + anchor(name) + "\">" + html_escape(name) + "</a>",
+                     html_figure(image.is_object() ? image.value("relmse", nlohmann::json()) : nlohmann::json()),
+                     energy_change(image),
+                     html_figure(c.value("first_differing_frame", nlohmann::json())),
+                     html_escape(c.value("differing_buffers", nlohmann::json::array()).dump()),
+                     c.value("fails", false) ? html_verdict("fail") : "no"});
+  }
+  return html_table({"scenario", "relMSE vs baseline", "energy change", "first differing frame", "differing buffers",
+                     "fails"},
+                    table);
+}
+
 }  // namespace
 
 std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir, const nlohmann::json& suite) {
@@ -237,13 +319,22 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
                         html_verdict(p.row.value("verdict", p.row.value("status", "?"))),
                         fmt::format("{}/{} pass", passed, total),
                         fmt::format("{}", regressed) + " (" + html_escape(p.row.value("baseline_status", "no baseline")) + ")",
+                        html_verdict(p.row.value("change", nlohmann::json::object()).value("status", "no_exact_baseline")),
                         "<span class=\"num\">" + html_figure(timings.value("total_mean_ms", nlohmann::json())) + "</span>",
                         html_figure(p.row.value("wall_seconds", nlohmann::json()))});
     for (auto& r : regression_rows(name, deltas)) all_regressions.push_back(r);
   }
+  std::vector<nlohmann::json> rows;
+  for (const Page& p : pages) rows.push_back(p.row);
+  const nlohmann::json tally = suite.value("changes", nlohmann::json::object());
+  body += fmt::format("<h2>Changed against the exact baseline</h2>\n<p class=\"small\">{} unchanged, {} changed, {} "
+                      "without an exact baseline (same device class, device and driver)</p>\n",
+                      html_figure(tally.value("unchanged", 0)), html_figure(tally.value("changed", 0)),
+                      html_figure(tally.value("no_exact_baseline", 0))) +
+          changed_list(rows);
   body += "<h2>Overview</h2>\n" +
-          html_table({"scenario", "verdict", "checks", "regressions", "GPU ms/frame", "wall s"}, overview);
-  body += "<h2>Changes against the baseline</h2>\n";
+          html_table({"scenario", "verdict", "checks", "regressions", "bits", "GPU ms/frame", "wall s"}, overview);
+  body += "<h2>Figures against the baseline's tolerances</h2>\n";
   body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
                                   : html_table(kRegressionHeader, all_regressions, "regressions");
   body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error");
@@ -264,7 +355,8 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
             "\">summary.json</a></p>\n";
     body += "<h3>Checks</h3>\n" + checks_table(p.summary);
     const nlohmann::json deltas = p.row.value("regressions", nlohmann::json::array());
-    if (!deltas.empty()) body += "<h3>Changes against the baseline</h3>\n" + html_table(kRegressionHeader, regression_rows(name, deltas));
+    if (!deltas.empty()) body += "<h3>Figures outside the baseline's tolerances</h3>\n" + html_table(kRegressionHeader, regression_rows(name, deltas));
+    if (p.row.contains("change")) body += "<h3>Bits against the exact baseline</h3>\n" + change_section(out_dir, p.row["change"]);
     body += "<h3>Per-frame curves</h3>\n";
     for (std::size_t i = p.first_plot; i < p.first_plot + p.plot_count; ++i) body += html_plot(drawn[i], plots[i].title) + "\n";
     const std::filesystem::path rel = std::filesystem::path(p.row["summary"].get<std::string>()).parent_path();

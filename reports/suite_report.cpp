@@ -21,6 +21,14 @@ int suite_exit_code(const nlohmann::json& suite) {
 int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, const std::filesystem::path& junit) {
   const int code = suite_exit_code(suite);
   suite["exit_code"] = code;
+  // Change detection's tally (reports/change.h), largest difference first in the report.
+  nlohmann::json changes = {{"unchanged", 0}, {"changed", 0}, {"no_exact_baseline", 0}};
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
+    if (row.contains("change")) {
+      const std::string status = row["change"].value("status", "no_exact_baseline");
+      if (changes.contains(status)) changes[status] = changes[status].get<int>() + 1;
+    }
+  suite["changes"] = changes;
   suite["verdict"] = suite.value("interrupted", false) ? "interrupted"
                      : code == 0                       ? "pass"
                      : code == 1                       ? "fail"

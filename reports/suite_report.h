@@ -11,7 +11,7 @@ namespace gi {
 // 3 device/internal); 3 also when the suite was interrupted (it is incomplete).
 int suite_exit_code(const nlohmann::json& suite);
 
-// Sets exit_code and verdict, writes <out>/summary.json, the JUnit XML (at
+// Sets exit_code, verdict and the change tally ("changes"), writes <out>/summary.json, the JUnit XML (at
 // `junit`, default <out>/junit.xml) and <out>/report.html. Returns the exit code.
 int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, const std::filesystem::path& junit = {});
 

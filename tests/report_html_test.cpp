@@ -73,12 +73,25 @@ TEST(ReportHtml, ChromiumConsoleErrorsAreDetected) {
 TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
   ASSERT_TRUE(chromium_installed()) << "install Debian's chromium (.ci/setup)";
   test::TempDir dir("report-html");
-  const std::filesystem::path suite = dir.path() / "suite", out = dir.path() / "out";
+  const std::filesystem::path suite = dir.path() / "suite", out = dir.path() / "out", base = dir.path() / "base";
   std::filesystem::create_directories(suite);
+  const std::filesystem::path scenario = suite / "tiny_cornell.json";
   std::filesystem::copy(test::source_dir() / "tests/data/suites/tiny/tiny_cornell.json", suite);
+  // A baseline, then the light 0.2 % dimmer: the report also shows a change
+  // (baseline, current and difference images).
+  const test::CommandResult first = test::run_giharness("nightly --suite " + suite.string() + " --out " +
+                                                        (dir.path() / "first").string() + " --baseline " +
+                                                        base.string() + " --update-baseline");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  for (const auto& entry : std::filesystem::directory_iterator(base))
+    std::ofstream(entry.path() / "tolerances.json") << R"([{"pattern": "timings/*", "kind": "ignore"}])";
+  nlohmann::json doc = test::read_json(scenario);
+  doc["scene"]["params"]["light_scale"] = 0.998;
+  std::ofstream(scenario) << doc.dump(2);
   const test::CommandResult run = test::run_giharness("nightly --suite " + suite.string() + " --out " + out.string() +
-                                                      " --baseline " + (dir.path() / "none").string());
+                                                      " --baseline " + base.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_EQ(test::read_json(out / "summary.json")["changes"]["changed"], 1) << run.output;
   const std::filesystem::path html = out / "report.html";
   std::ifstream in(html);
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -93,7 +106,7 @@ TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
     ++previews;
   // mean_luminance, nonfinite_*, window_*, pass_ms, the reference check's error, speed vs error.
   EXPECT_GE(plots, 5u);
-  EXPECT_GE(previews, 4u);  // gpu, embree, error map + the capture
+  EXPECT_GE(previews, 7u);  // gpu, embree, error map + the capture + baseline, current, difference
   EXPECT_NE(text.find("reference/frame_00007.exr"), std::string::npos);
 
   const test::CommandResult dom = chromium(html, "--dump-dom", dir);

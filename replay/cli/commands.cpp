@@ -60,6 +60,12 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
   nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");
   nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
+  nightly_->add_flag("--fail-on-change", nightly_options_.fail_on_change,
+                     "fail (exit 1) a scenario whose image or buffer hashes differ from its exact baseline");
+  nightly_->add_option("--image-budget-mb", nightly_options_.image_budget_mb,
+                       "with --update-baseline: the largest baseline images are dropped above this total")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   nightly_->add_option("--scenario-timeout", nightly_options_.scenario_timeout,
                        "seconds of wall time per scenario (unless it sets timeout_seconds), then verdict timeout")
       ->capture_default_str()
@@ -79,6 +85,10 @@ void Commands::add_to(CLI::App& app) {
   baseline_update_ = baseline_->add_subcommand("update", "write a nightly's figures as the baselines of its device class");
   baseline_update_->add_option("--from", baseline_options_.from, "the nightly's out directory")->required();
   baseline_update_->add_option("--baseline", baseline_options_.baseline_dir, "baseline root")->capture_default_str();
+  baseline_update_->add_option("--image-budget-mb", baseline_options_.image_budget_mb,
+                               "the largest baseline images are dropped above this total")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   baseline_->require_subcommand(1);
 
   merge_ = app.add_subcommand("merge", "merge nightly shards into one suite with one report");

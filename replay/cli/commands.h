@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "reports/baseline_store.h"
 #include "replay/cli/bench.h"
 #include "replay/run_scenario.h"
 
@@ -31,6 +32,8 @@ struct NightlyOptions {
   std::filesystem::path junit;    // default <out>/junit.xml
   bool resume = false;            // keep completed scenarios of <out>/summary.json
   bool update_baseline = false;   // write this run's figures as the baseline
+  bool fail_on_change = false;    // a scenario whose bits changed against its exact baseline fails (exit 1)
+  double image_budget_mb = kDefaultImageBudgetMb;  // --update-baseline: the device class's baseline images stay within this
   double scenario_timeout = 3600.0;              // s of wall time per scenario, unless it sets timeout_seconds
   std::optional<std::uint64_t> memory_limit_mb;  // address-space limit of each scenario's process
 };
@@ -48,6 +51,7 @@ int run_nightly_scenario(const NightlyScenarioOptions& options);  // replay/cli/
 struct BaselineUpdateOptions {
   std::filesystem::path from;     // a nightly's out dir
   std::filesystem::path baseline_dir = "reports/baselines";
+  double image_budget_mb = kDefaultImageBudgetMb;  // the device class's baseline images stay within this (reports/baseline_store.h)
 };
 
 struct MergeOptions {

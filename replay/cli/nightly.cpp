@@ -20,6 +20,7 @@
 #include <csignal>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -33,6 +34,7 @@
 #include "replay/cli/child_process.h"
 #include "replay/cli/commands.h"
 #include "reports/baseline_store.h"
+#include "reports/change.h"
 #include "reports/figures.h"
 #include "reports/json_figures.h"
 #include "reports/regression.h"
@@ -204,10 +206,23 @@ void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nl
   if (verdict != "pass" && verdict != "fail") row["log_tail"] = tail_of_file(kept, 20);
 }
 
-// Compares a completed scenario with its baseline; a regression makes the
-// row fail (exit 1) even when every check passed.
-void compare_row(const nlohmann::json& summary, const std::filesystem::path& class_dir, nlohmann::json& row) {
+// Compares a completed scenario with its baseline: its figures within
+// tolerance (a regression makes the row fail, exit 1, even when every check
+// passed), then its bits against the exact baseline (reports/change.h; a
+// change fails only under --fail-on-change).
+void compare_row(const nlohmann::json& summary, const std::filesystem::path& class_dir, const NightlyOptions& o,
+                 nlohmann::json& row) {
   const std::string name = summary["scenario"]["name"];
+  const std::optional<nlohmann::json> doc = read_baseline_document(class_dir, name);
+  const std::filesystem::path run_rel = std::filesystem::path(row["summary"].get<std::string>()).parent_path();
+  ChangeInputs change{doc, baseline_image_file(class_dir, name), summary, o.out_dir / run_rel,
+                      o.out_dir / run_rel / "change", run_rel / "change"};
+  row["change"] = detect_change(change);
+  if (row["change"]["status"] == "changed" && o.fail_on_change) {
+    row["change"]["fails"] = true;
+    row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
+    if (row["verdict"] == "pass") row["verdict"] = "changed";
+  }
   const std::optional<ScenarioFigures> baseline = read_baseline(class_dir, name);
   if (!baseline) {
     row["baseline_status"] = "no_baseline";
@@ -222,7 +237,7 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
   for (const FigureDelta& d : cmp.deltas) row["regressions"].push_back(d.to_json());
   if (cmp.regressions() > 0) {
     row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
-    if (row["verdict"] == "pass") row["verdict"] = "regressed";
+    if (row["verdict"] == "pass" || row["verdict"] == "changed") row["verdict"] = "regressed";
   }
 }
 
@@ -320,8 +335,10 @@ int run_nightly(const NightlyOptions& o) {
           suite["device"] = device;
           suite["device_class"] = cls;
         }
-        compare_row(summary, o.baseline_dir / cls, row);
-        if (o.update_baseline) write_baseline(o.baseline_dir / cls, summary);
+        compare_row(summary, o.baseline_dir / cls, o, row);
+        if (o.update_baseline)
+          write_baseline(o.baseline_dir / cls, summary,
+                         o.out_dir / std::filesystem::path(row["summary"].get<std::string>()).parent_path());
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -351,8 +368,22 @@ int run_nightly(const NightlyOptions& o) {
   if (!suite.contains("device_class")) suite["device_class"] = "unknown";
   const std::filesystem::path class_dir = o.baseline_dir / suite["device_class"].get<std::string>();
   suite["baseline_status"] = std::filesystem::is_directory(class_dir) ? "found" : "none for this device class";
-  if (o.update_baseline) spdlog::info("baselines written to {}", class_dir.string());
+  if (o.update_baseline) {
+    const ImageBudget budget = enforce_image_budget(class_dir, o.image_budget_mb);
+    spdlog::info("baselines written to {}; its images: {:.2f} MB of the {} MB budget", class_dir.string(),
+                 double(budget.bytes) / (1024.0 * 1024.0), o.image_budget_mb);
+    for (const std::string& name : budget.dropped)
+      spdlog::warn("baseline image of {} dropped (over the budget): its changes show without relMSE or heat map", name);
+  }
+  suite["fail_on_change"] = o.fail_on_change;
   const int code = finish_suite(o.out_dir, suite, o.junit);
+  for (const nlohmann::json& row : suite["scenarios"])
+    if (row.contains("change") && row["change"].value("status", "") == "changed")
+      spdlog::log(o.fail_on_change ? spdlog::level::err : spdlog::level::warn,
+                  "changed: {} (first differing frame {}, buffers {}, relMSE {})", row.value("name", "?"),
+                  row["change"]["first_differing_frame"].dump(), row["change"]["differing_buffers"].dump(),
+                  row["change"]["image"].is_object() ? row["change"]["image"]["relmse"].dump() : "n/a");
+  const nlohmann::json& changes = suite["changes"];
   std::size_t regressions = 0;
   for (const nlohmann::json& row : suite["scenarios"])
     for (const auto& d : row.value("regressions", nlohmann::json::array())) {
@@ -364,8 +395,11 @@ int run_nightly(const NightlyOptions& o) {
   if (suite["baseline_status"] != "found")
     spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
                  "update --from {}`)", class_dir.string(), o.out_dir.string());
-  spdlog::info("suite {}: exit {}, {} regressions; report {}; junit {}", suite["verdict"].get<std::string>(), code,
-               regressions, (o.out_dir / "report.html").string(), suite["junit"].get<std::string>());
+  spdlog::info("suite {}: exit {}, {} regressions; {} unchanged, {} changed, {} without an exact baseline; report {}; "
+               "junit {}",
+               suite["verdict"].get<std::string>(), code, regressions, changes["unchanged"].get<int>(),
+               changes["changed"].get<int>(), changes["no_exact_baseline"].get<int>(),
+               (o.out_dir / "report.html").string(), suite["junit"].get<std::string>());
   return code;
 }
 
@@ -397,15 +431,23 @@ int run_baseline_update(const BaselineUpdateOptions& o) {
     throw InputError(summary_path.string(), "", std::string("a nightly summary (") + e.what() + ")");
   }
   std::size_t written = 0;
+  std::set<std::filesystem::path> classes;
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
     if (row.value("status", "") != "complete" || row.contains("error") || !row.contains("summary")) continue;
     const nlohmann::json s = nlohmann::json::parse(std::ifstream(o.from / row["summary"].get<std::string>()));
     const std::filesystem::path class_dir = o.baseline_dir / device_class(s.value("device", nlohmann::json::object()));
-    write_baseline(class_dir, s);
+    write_baseline(class_dir, s, o.from / std::filesystem::path(row["summary"].get<std::string>()).parent_path());
     spdlog::info("baseline {}", baseline_file(class_dir, s["scenario"]["name"]).string());
+    classes.insert(class_dir);
     ++written;
   }
   if (written == 0) throw InputError(summary_path.string(), "/scenarios", "at least one completed scenario");
+  for (const std::filesystem::path& class_dir : classes) {
+    const ImageBudget budget = enforce_image_budget(class_dir, o.image_budget_mb);
+    spdlog::info("{}: images {:.2f} MB of the {} MB budget", class_dir.string(), double(budget.bytes) / (1024.0 * 1024.0),
+                 o.image_budget_mb);
+    for (const std::string& name : budget.dropped) spdlog::warn("baseline image of {} dropped (over the budget)", name);
+  }
   return 0;
 }
 
