@@ -110,7 +110,11 @@ nlohmann::json detect_change(const ChangeInputs& in) {
   const nlohmann::json& s = in.summary;
   if (!in.baseline) return {{"status", "no_exact_baseline"}, {"reason", "no baseline for this scenario"}};
   const nlohmann::json& base = *in.baseline;
-  if (!base.contains("hashes") || !s.contains("hashes"))
+  if (!s.contains("hashes"))
+    return {{"status", "no_exact_baseline"},
+            {"reason", "this run records no image or buffer hashes (no GPU pipeline ran: e.g. a count-only "
+                       "cluster_ids scenario)"}};
+  if (!base.contains("hashes"))
     return {{"status", "no_exact_baseline"},
             {"reason", "the baseline keeps no hashes (written before change detection; run `baseline update`)"}};
   const std::string mismatch = exactness_mismatch(base.value("device", nlohmann::json::object()),

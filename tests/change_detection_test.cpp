@@ -182,7 +182,13 @@ TEST(ChangeDetectionUnit, OnlyAnExactBaselineJudgesBits) {
   base = summary_with(device("Mesa 25.0.7"), "c", "x");
   base.erase("hashes");  // written before hashes were kept
   in.baseline = base;
-  EXPECT_EQ(detect_change(in)["status"], "no_exact_baseline");
+  c = detect_change(in);
+  EXPECT_EQ(c["status"], "no_exact_baseline");
+  EXPECT_NE(c["reason"].get<std::string>().find("baseline keeps no hashes"), std::string::npos) << c.dump();
+  ChangeInputs cpu_only = in;  // a run with no GPU pipeline has nothing exact to compare
+  cpu_only.baseline = summary_with(device("Mesa 25.0.7"), "c", "x");
+  cpu_only.summary.erase("hashes");
+  EXPECT_NE(detect_change(cpu_only)["reason"].get<std::string>().find("records no image"), std::string::npos);
 
   in.baseline = summary_with(device("Mesa 25.0.7"), "c", "x");
   EXPECT_EQ(detect_change(in)["status"], "unchanged");

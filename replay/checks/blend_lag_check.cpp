@@ -267,10 +267,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"blend_lag", kSchema, {}},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<BlendLagPlugin>(c);
-                                      }};
+const RegisteredCheck<BlendLagPlugin> kRegistration{{"blend_lag", kSchema, {}}};
 
 }  // namespace
 

@@ -167,10 +167,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"cache_lifetime", kSchema, {}},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<CacheLifetimePlugin>(c);
-                                      }};
+const RegisteredCheck<CacheLifetimePlugin> kRegistration{{"cache_lifetime", kSchema, {}}};
 
 }  // namespace
 

@@ -1,8 +1,10 @@
 // Checks by name. Each check file registers itself in an anonymous-namespace
 // object:
 //
-//   const CheckRegistration kRegistration{{"finite", {"name"}}, make_finite_check};
+//   const RegisteredCheck<FiniteCheck> kRegistration{{"finite", kSchema, {}}};
 //
+// (or, where the kind of check depends on the context, a CheckRegistration
+// with its own factory: the reference check)
 // which also declares its name and keys to the scenario parser
 // (core/check_catalog.h). Nothing else names a check: the parser, the frame
 // loop, the summary, the JUnit writer and the reports find them here or in
@@ -10,6 +12,7 @@
 // registrations in otherwise unreferenced files are kept.)
 #pragma once
 #include <memory>
+#include <utility>
 
 #include "core/check_catalog.h"
 #include "replay/checks/check.h"
@@ -20,6 +23,14 @@ using CheckFactory = std::unique_ptr<Check> (*)(const CheckContext& context);
 
 struct CheckRegistration {
   CheckRegistration(CheckDeclaration declaration, CheckFactory factory);
+};
+
+// The usual registration: the declaration, and a factory that makes a T.
+template <class T>
+struct RegisteredCheck : CheckRegistration {
+  explicit RegisteredCheck(CheckDeclaration declaration)
+      : CheckRegistration(std::move(declaration),
+                          [](const CheckContext& c) -> std::unique_ptr<Check> { return std::make_unique<T>(c); }) {}
 };
 
 // The check the context's spec names; InputError from its parameters.

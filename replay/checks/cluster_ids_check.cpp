@@ -251,9 +251,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{
-    {"cluster_ids", kSchema, {}},
-    [](const CheckContext& c) -> std::unique_ptr<Check> { return std::make_unique<ClusterIdsPlugin>(c); }};
+const RegisteredCheck<ClusterIdsPlugin> kRegistration{{"cluster_ids", kSchema, {}}};
 
 }  // namespace
 

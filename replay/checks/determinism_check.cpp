@@ -215,10 +215,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"determinism", kSchema, {}, true},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<DeterminismPlugin>(c);
-                                      }};
+const RegisteredCheck<DeterminismPlugin> kRegistration{{"determinism", kSchema, {}, true}};
 
 }  // namespace
 

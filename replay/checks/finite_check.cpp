@@ -79,10 +79,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"finite", kSchema, {}},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<FiniteCheck>(c);
-                                      }};
+const RegisteredCheck<FiniteCheck> kRegistration{{"finite", kSchema, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -127,10 +127,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"jacobian", kSchema, {}},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<JacobianPlugin>(c);
-                                      }};
+const RegisteredCheck<JacobianPlugin> kRegistration{{"jacobian", kSchema, {}}};
 
 }  // namespace
 

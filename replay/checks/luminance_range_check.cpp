@@ -129,10 +129,7 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const CheckRegistration kRegistration{{"luminance_range", kSchema, {}},
-                                      [](const CheckContext& c) -> std::unique_ptr<Check> {
-                                        return std::make_unique<LuminanceRangeCheck>(c);
-                                      }};
+const RegisteredCheck<LuminanceRangeCheck> kRegistration{{"luminance_range", kSchema, {}}};
 
 }  // namespace
 }  // namespace gi
