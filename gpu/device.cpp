@@ -12,6 +12,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/errors.h"
+#include "gpu/buffer.h"
 
 namespace gi::gpu {
 
@@ -180,6 +181,16 @@ bool is_lavapipe(VkPhysicalDevice pd) {
   return std::strstr(p.deviceName, "llvmpipe") != nullptr;
 }
 
+bool choose_staged_buffers(VkPhysicalDeviceType type) {
+  const char* env = std::getenv("GIHARNESS_BUFFER_MEMORY");
+  const std::string forced = env ? env : "";
+  if (forced == "staged") return true;
+  if (forced == "mapped") return false;
+  if (!forced.empty())
+    throw InputError("GIHARNESS_BUFFER_MEMORY", "", fmt::format("staged or mapped; got \"{}\"", forced));
+  return type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU || type == VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU;
+}
+
 }  // namespace
 
 const char* backend_name(TraceBackend backend) { return backend == TraceBackend::bvh ? "bvh" : "rayquery"; }
@@ -205,7 +216,8 @@ nlohmann::json DeviceInfo::to_json() const {
                         {"timestamp_period_ns", timestamp_period_ns},
                         {"device_index", device_index},
                         {"ray_query", ray_query},
-                        {"backend", backend}};
+                        {"backend", backend},
+                        {"buffer_memory", buffer_memory}};
 }
 
 std::vector<std::string> Device::list_devices() {
@@ -296,6 +308,8 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     info_.device_index = chosen;
     info_.ray_query = has_ray_query;
     info_.backend = backend_name(backend_);
+    staged_buffers_ = choose_staged_buffers(props.properties.deviceType);
+    info_.buffer_memory = staged_buffers_ ? "staged" : "mapped";
 
     // Features: bufferDeviceAddress -> accelerationStructure -> rayQuery (DESIGN §4).
     VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
@@ -367,6 +381,7 @@ Device::Device(std::optional<int> index, BackendRequest request) {
 void Device::destroy() noexcept {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    staging_.reset();
     if (fence_) vkDestroyFence(device_, fence_, nullptr);
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
@@ -398,11 +413,15 @@ Device& Device::operator=(Device&& other) noexcept {
     min_scratch_alignment_ = other.min_scratch_alignment_;
     validation_ = other.validation_;
     backend_ = other.backend_;
+    staged_buffers_ = other.staged_buffers_;
+    staging_ = std::move(other.staging_);
   }
   return *this;
 }
 
 void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+  // A staged transfer inside a recording would submit from within a submission.
+  if (recording_) throw std::logic_error("Device::submit_and_wait called while recording (a staged transfer?)");
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = pool_;
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -419,7 +438,14 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record)
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check_vk(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  record(cmd);
+  recording_ = true;
+  try {
+    record(cmd);
+  } catch (...) {
+    recording_ = false;
+    throw;
+  }
+  recording_ = false;
   check_vk(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
 
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
@@ -437,6 +463,18 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record)
     gpu_fault(message);
   }
   check_vk(waited, "vkWaitForFences");
+}
+
+Buffer& Device::staging(VkDeviceSize bytes) {
+  if (!staging_ || staging_->size() < bytes) {
+    staging_.reset();  // free the old one first: staging can be as large as the largest buffer
+    // Grow in powers of two so a run's readbacks settle on one buffer.
+    VkDeviceSize size = 1 << 20;
+    while (size < bytes) size *= 2;
+    staging_ = std::make_unique<Buffer>(*this, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                        "staging", BufferMemory::staging);
+  }
+  return *staging_;
 }
 
 std::uint64_t Device::largest_heap_bytes() const {

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,10 @@ struct DeviceInfo {
   int device_index = 0;
   bool ray_query = false;      // the device offers VK_KHR_ray_query + acceleration structures
   std::string backend;         // the tracing backend this Device was created for
+  // Where buffers live (gpu/buffer.h): "staged" (device-local memory, copies
+  // through a host-cached staging buffer) or "mapped" (one host-visible
+  // memory, the CPU reads and writes it in place).
+  std::string buffer_memory;
 
   nlohmann::json to_json() const;
 };
@@ -56,6 +61,8 @@ struct KhrFunctions {
   PFN_vkCmdBuildAccelerationStructuresKHR cmd_build_acceleration_structures = nullptr;
   PFN_vkGetAccelerationStructureDeviceAddressKHR get_acceleration_structure_device_address = nullptr;
 };
+
+class Buffer;
 
 class Device {
  public:
@@ -88,6 +95,16 @@ class Device {
   std::uint32_t min_scratch_offset_alignment() const { return min_scratch_alignment_; }
   bool validation_enabled() const { return validation_; }
   TraceBackend backend() const { return backend_; }
+  // Buffers in device-local memory, moved through staging copies: on discrete
+  // and virtual GPUs, where the CPU reads host-visible VRAM uncached over PCIe
+  // (on an H200 that made readbacks 560x the GPU time). Not on CPU and
+  // integrated devices (lavapipe), whose one memory is the host's. The
+  // environment's GIHARNESS_BUFFER_MEMORY=staged|mapped overrides the choice
+  // (tests run the staged path on lavapipe; benchmarks compare the two).
+  bool staged_buffers() const { return staged_buffers_; }
+  // A host-visible, preferably host-cached buffer of at least `bytes` for
+  // staging copies; reused (grown when needed). Valid until the next call.
+  Buffer& staging(VkDeviceSize bytes);
 
   // Records with `record` into a fresh primary command buffer, submits it to
   // the compute queue and waits for it to finish.
@@ -118,6 +135,9 @@ class Device {
   std::uint32_t min_scratch_alignment_ = 256;
   bool validation_ = false;
   TraceBackend backend_ = TraceBackend::rayquery;
+  bool staged_buffers_ = false;
+  bool recording_ = false;  // inside submit_and_wait's record callback
+  std::unique_ptr<Buffer> staging_;
 };
 
 }  // namespace gi::gpu

@@ -37,7 +37,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
                                      "vertices")),
       indices_(make_geometry_buffer(device, geometry.indices.data(),
                                     geometry.indices.size() * sizeof(std::uint32_t), "indices")),
-      frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants"),
+      frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
       timer_(device) {
   if (options.width == 0 || options.height == 0)
     throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));

@@ -54,7 +54,7 @@ DiPipeline::DiPipeline(Device& device, ShaderCompiler& compiler, const DiSetting
       stored_(device, s.chains * pixels() * sizeof(DiReservoir), kStorage, "DI stored reservoirs"),
       mid_(device, s.chains * pixels() * sizeof(DiReservoir), kStorage, "DI mid reservoirs"),
       surfaces_(device, pixels() * sizeof(DiSurface), kStorage, "DI surfaces"),
-      translation_(device, 16, kStorage, "DI light translation"),
+      translation_(device, 16, kStorage, "DI light translation", BufferMemory::host_write),
       output_(device, s.chains * pixels() * sizeof(glm::vec4), kStorage, "DI output"),
       accumulation_(device, s.chains * pixels() * sizeof(glm::vec4), kStorage, "DI accumulation"),
       light_tiles_(device, compiler, s),
@@ -83,7 +83,7 @@ void DiPipeline::update_lights(const FlatInstances& scene) {
 void DiPipeline::upload_translation(const std::vector<std::uint32_t>& table) {
   const VkDeviceSize bytes = std::max<std::size_t>(table.size(), 1) * sizeof(std::uint32_t);
   if (translation_.size() < bytes) {
-    translation_ = Buffer(device_, bytes, kStorage, "DI light translation");
+    translation_ = Buffer(device_, bytes, kStorage, "DI light translation", BufferMemory::host_write);
     if (bound_) bind(bound_scene_, *bound_gbuffer_);  // the descriptors named the old buffer
   }
   if (!table.empty()) translation_.upload(table);
@@ -134,7 +134,7 @@ void DiPipeline::reset_accumulation() { accumulation_.fill_zero(); }
 void DiPipeline::list_state(StateList& out) {
   const std::uint64_t c = settings_.chains, h = height_, w = width_;
   const std::uint64_t tiles = settings_.tile_count, samples = settings_.samples_per_tile;
-  // The translation table is not listed: record() uploads it from the host
+  // The translation table is not listed: record() writes it (mapped) from the host
   // state every frame before any pass reads it.
   out.push_back({"di/light_tile_samples", &tile_samples_, "<u4", {c, tiles, samples, 4}, "LightSample (core/shared/light_tiles.h)"});
   out.push_back({"di/light_tiles_packed", &tile_packed_, "<u4", {c, tiles, samples, 6}, "PackedLightSample (core/shared/light_tiles.h)"});
@@ -161,26 +161,26 @@ void DiPipeline::restore_host_state(const HostState& in) {
   lights_updated_ = flags->words[2] != 0;
 }
 
+// Each reads back only the chain's own slice of the buffer.
 Image DiPipeline::frame(std::uint32_t chain) const {
-  const auto all = output_.download<glm::vec4>(settings_.chains * pixels());
+  const auto texels = output_.download<glm::vec4>(pixels(), chain * pixels());
   Image img(width_, height_);
-  for (std::size_t i = 0; i < pixels(); ++i) img.pixels[i] = glm::vec3(all[chain * pixels() + i]);
+  for (std::size_t i = 0; i < pixels(); ++i) img.pixels[i] = glm::vec3(texels[i]);
   return img;
 }
 
 Image DiPipeline::mean(std::uint32_t chain) const {
-  const auto all = accumulation_.download<glm::vec4>(settings_.chains * pixels());
+  const auto sums = accumulation_.download<glm::vec4>(pixels(), chain * pixels());
   Image img(width_, height_);
   for (std::size_t i = 0; i < pixels(); ++i) {
-    const glm::vec4 s = all[chain * pixels() + i];
+    const glm::vec4 s = sums[i];
     img.pixels[i] = s.w > 0.0f ? glm::vec3(s) / s.w : glm::vec3(0.0f);
   }
   return img;
 }
 
 std::uint32_t DiPipeline::accumulated_frames(std::uint32_t chain) const {
-  const auto all = accumulation_.download<glm::vec4>(settings_.chains * pixels());
-  return static_cast<std::uint32_t>(all[chain * pixels()].w);
+  return static_cast<std::uint32_t>(accumulation_.download<glm::vec4>(1, chain * pixels())[0].w);
 }
 
 }  // namespace gi::gpu

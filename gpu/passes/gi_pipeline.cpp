@@ -55,8 +55,8 @@ void GiPipeline::bind(const SceneResources& scene, const Buffer& gbuffer, const 
 
 void GiPipeline::record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate, std::uint32_t frame_index,
                         std::uint32_t seed) {
-  // Host-visible and the previous frame has finished: zero on the host.
-  stats_.fill_zero();
+  // Zeroed on the queue, before this frame's passes count into it.
+  stats_.record_fill_zero(cmd);
   GiPushConstants push{};
   push.chain_count = settings_.chains;
   push.history_valid = history_valid_ ? 1u : 0u;
@@ -86,10 +86,10 @@ void GiPipeline::reset_accumulation() {
 
 Image GiPipeline::channel(const Buffer& buffer, std::uint32_t chain, bool mean) const {
   if (chain >= settings_.chains) throw std::out_of_range("GiPipeline: chain " + std::to_string(chain));
-  const auto all = buffer.download<glm::vec4>(settings_.chains * pixels());
+  const auto texels = buffer.download<glm::vec4>(pixels(), chain * pixels());  // the chain's slice only
   Image img(width_, height_);
   for (std::size_t i = 0; i < pixels(); ++i) {
-    const glm::vec4 s = all[chain * pixels() + i];
+    const glm::vec4 s = texels[i];
     img.pixels[i] = !mean ? glm::vec3(s) : (s.w > 0.0f ? glm::vec3(s) / s.w : glm::vec3(0.0f));
   }
   return img;

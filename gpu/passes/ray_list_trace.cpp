@@ -47,7 +47,7 @@ RayListTrace::RayListTrace(Device& device, ShaderCompiler& compiler, const FlatG
       instances_(make_buffer(device, flat.instances, kStorage, "instances")),
       materials_(make_buffer(device, flat.materials, kStorage, "materials")),
       lights_(make_buffer(device, flat.lights, kStorage, "lights")),
-      frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants"),
+      frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
       pass_(make_pass(device, compiler)),
       timer_(device) {
   FrameConstants frame{};
