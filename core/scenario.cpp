@@ -47,7 +47,7 @@ const ScenarioKeys& scenario_keys() {
   static const ScenarioKeys keys = [] {
     ScenarioKeys k;
     k.top_level = {"$schema", "name", "description", "scene", "resolution", "frames", "seed", "profile",
-                   "overrides", "mode", "gi", "noise", "cache_view", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds"};
+                   "overrides", "mode", "gi", "noise", "cache_view", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds", "bug"};
     k.required_top_level = {"name", "scene", "resolution", "frames"};
     k.scene_keys = {"generator", "params", "gltf"};
     k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
@@ -431,6 +431,21 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
         r.fail(Reader::at("/capture", i), fmt::format("expected distinct frames, {} repeats", f));
       s.capture.push_back(f);
     }
+  }
+  if (doc.contains("bug")) {
+    const json& b = doc["bug"];
+    r.object(b, "/bug", {"source", "symptom", "caught_by"}, {"source", "caught_by"});
+    BugSpec bug;
+    bug.source = r.string(b["source"], "/bug/source");
+    if (b.contains("symptom")) bug.symptom = r.string(b["symptom"], "/bug/symptom", false);
+    const json& by = r.array(b["caught_by"], "/bug/caught_by", 1);
+    for (std::size_t i = 0; i < by.size(); ++i) {
+      const std::string path = Reader::at("/bug/caught_by", i);
+      std::string name = r.string(by[i], path);
+      if (!s.has_check(name)) r.fail(path, fmt::format("expected the name of one of the scenario's checks, got \"{}\"", name));
+      bug.caught_by.push_back(std::move(name));
+    }
+    s.bug = std::move(bug);
   }
   // Each check's own parameter rules, once the whole scenario is known.
   for (const CheckSpec& c : s.checks)

@@ -114,6 +114,12 @@ struct CheckSpec {
   std::string json_path;                         // "/checks/<index>"
 };
 
+struct BugSpec {
+  std::string source;                  // where the bug and its fix are recorded, e.g. "bevy#21904"
+  std::string symptom;                 // what users saw
+  std::vector<std::string> caught_by;  // checks of the scenario that must fail
+};
+
 struct Scenario {
   std::filesystem::path file;   // where it was read from (errors name it)
   nlohmann::json raw;           // the document as read, every key kept
@@ -142,6 +148,10 @@ struct Scenario {
   // The nightly's wall-time limit for this scenario's process, in seconds
   // (unset: the suite's --scenario-timeout).
   std::optional<std::uint32_t> timeout_seconds;
+  // A scenario that re-creates a known bug (the bug museum, scenarios/bugs/):
+  // the nightly reports it caught when every check in caught_by fails, missed
+  // otherwise (a failure), and the suite's catch rate.
+  std::optional<BugSpec> bug;
   std::optional<CameraSpec> camera;
   std::vector<Event> events;    // in file order
   std::vector<CheckSpec> checks;

@@ -1,10 +1,12 @@
 #include "gpu/compute_pass.h"
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <utility>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "core/errors.h"
 #include "gpu/buffer.h"
@@ -74,7 +76,11 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
     cpci.stage.module = module_;
     cpci.stage.pName = "main";
     cpci.layout = layout_;
+    const auto compile_start = std::chrono::steady_clock::now();
     VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline_);
+    // The driver's compile (lavapipe: LLVM), cached by the driver, not by us.
+    spdlog::debug("pass '{}': pipeline created in {:.0f} ms", name_,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - compile_start).count());
     if (r != VK_SUCCESS)
       throw DeviceError(fmt::format("Vulkan: pass '{}': vkCreateComputePipelines failed: {}", name_,
                                     vk_result_name(r)));

@@ -92,8 +92,8 @@ th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; vertical-al
 th { background: #f0f0f0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .verdict { font-weight: bold; padding: 1px 6px; border-radius: 3px; }
-.verdict.pass, .verdict.improved { background: #d7f5d7; color: #135e13; }
-.verdict.fail, .verdict.regressed, .verdict.missing, .verdict.error, .verdict.bad-input, .verdict.crashed,
+.verdict.pass, .verdict.improved, .verdict.caught { background: #d7f5d7; color: #135e13; }
+.verdict.fail, .verdict.regressed, .verdict.missed, .verdict.missing, .verdict.error, .verdict.bad-input, .verdict.crashed,
 .verdict.timeout, .verdict.device-error { background: #fbd5d5; color: #8a1010; }
 .verdict.inconclusive, .verdict.not-run, .verdict.interrupted, .verdict.no-baseline { background: #fff0c2; color: #6b5200; }
 .verdict.unchanged { background: #e4ecf7; color: #22406b; }

@@ -75,9 +75,28 @@ std::string junit_xml(const nlohmann::json& suite) {
     const nlohmann::json regressions = row.value("regressions", nlohmann::json::array());
     std::vector<bool> attributed(regressions.size(), false);
     const nlohmann::json checks = row.value("checks", nlohmann::json::array());
+    // A bug-museum scenario: its catching checks must fail, and one that
+    // passes is the failure; its other checks only inform (the row's verdict
+    // is caught or missed, replay/cli/nightly.cpp).
+    const nlohmann::json bug = row.value("bug", nlohmann::json());
+    auto catches = [&](const std::string& check) {
+      if (!bug.is_object()) return false;
+      for (const nlohmann::json& n : bug.value("caught_by", nlohmann::json::array()))
+        if (n == check) return true;
+      return false;
+    };
     for (const nlohmann::json& c : checks) {
       Case k{scenario, c.value("name", "?"), "", "", "", "", seconds / double(checks.size() + 1), {}};
-      if (c.value("verdict", "fail") != "pass") {
+      const bool failed = c.value("verdict", "fail") != "pass";
+      if (catches(k.name)) {
+        k.properties.push_back({"bug", bug.value("source", "")});
+        if (!failed) {
+          k.failure = fmt::format("missed bug {}: {} passed ({})", bug.value("source", ""), k.name, c.value("message", ""));
+          k.failure_text = "the check should fail on this re-created bug: " + bug.value("symptom", "") + "\n";
+        }
+      } else if (bug.is_object()) {
+        k.properties.push_back({"verdict", c.value("verdict", "fail")});  // the bug's other checks only inform
+      } else if (failed) {
         k.failure = fmt::format("{}: {}", c.value("verdict", "fail"), c.value("message", ""));
         k.failure_text = "limits: " + c.value("limits", nlohmann::json::object()).dump() + "\n";
       }

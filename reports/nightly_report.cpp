@@ -252,6 +252,26 @@ std::string changed_list(const std::vector<nlohmann::json>& rows) {
                     table);
 }
 
+// The bug museum (Scenario::bug): catch rate, then each re-created bug,
+// missed ones first.
+std::string bug_museum(const nlohmann::json& bugs, const std::vector<nlohmann::json>& rows) {
+  std::vector<std::vector<std::string>> table;
+  for (bool caught : {false, true})
+    for (const nlohmann::json& row : rows) {
+      if (!row.contains("bug") || row["bug"].value("caught", false) != caught) continue;
+      const nlohmann::json& b = row["bug"];
+      std::string checks;
+      for (const nlohmann::json& c : b.value("caught_by", nlohmann::json::array()))
+        checks += (checks.empty() ? "" : ", ") + c.get<std::string>();
+      table.push_back({"<a href=\"#" + anchor(row.value("name", "?")) + "\">" + html_escape(row.value("name", "?")) + "</a>",
+                       html_escape(b.value("source", "")), html_escape(b.value("symptom", "")), html_escape(checks),
+                       html_verdict(caught ? "caught" : "missed")});
+    }
+  return fmt::format("<h2>Bug museum</h2>\n<p>catch rate <b>{:.0f} %</b>: {} caught, {} missed</p>\n",
+                     100.0 * bugs.value("catch_rate", 0.0), bugs.value("caught", 0), bugs.value("missed", 0)) +
+         html_table({"scenario", "bug", "symptom", "caught by", ""}, table);
+}
+
 }  // namespace
 
 std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir, const nlohmann::json& suite) {
@@ -332,6 +352,7 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
                       html_figure(tally.value("unchanged", 0)), html_figure(tally.value("changed", 0)),
                       html_figure(tally.value("no_exact_baseline", 0))) +
           changed_list(rows);
+  if (suite.contains("bugs")) body += bug_museum(suite["bugs"], rows);
   body += "<h2>Overview</h2>\n" +
           html_table({"scenario", "verdict", "checks", "regressions", "bits", "GPU ms/frame", "wall s"}, overview);
   body += "<h2>Figures against the baseline's tolerances</h2>\n";

@@ -29,6 +29,14 @@ int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, co
       if (changes.contains(status)) changes[status] = changes[status].get<int>() + 1;
     }
   suite["changes"] = changes;
+  // The bug museum's tally (Scenario::bug): present when any scenario re-creates a bug.
+  int caught = 0, missed = 0;
+  for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
+    if (row.contains("bug")) (row["bug"].value("caught", false) ? caught : missed) += 1;
+  if (caught + missed > 0)
+    suite["bugs"] = {{"caught", caught}, {"missed", missed}, {"catch_rate", double(caught) / double(caught + missed)}};
+  else
+    suite.erase("bugs");
   suite["verdict"] = suite.value("interrupted", false) ? "interrupted"
                      : code == 0                       ? "pass"
                      : code == 1                       ? "fail"

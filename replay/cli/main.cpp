@@ -5,12 +5,14 @@
 #include <exception>
 
 #include <CLI/CLI.hpp>
+#include <spdlog/cfg/env.h>
 #include <spdlog/spdlog.h>
 
 #include "core/errors.h"
 #include "replay/cli/commands.h"
 
 int main(int argc, char** argv) {
+  spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug: e.g. each pipeline's driver compile time
   CLI::App app{"giharness: deterministic validation harness for real-time ray-traced GI"};
   app.require_subcommand(1);
   gi::Commands commands;

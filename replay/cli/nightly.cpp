@@ -82,14 +82,33 @@ std::vector<std::filesystem::path> suite_files(const std::filesystem::path& suit
   return files;
 }
 
+// A bug-museum scenario (Scenario::bug) is caught when every check it names
+// failed: then its row passes (verdict "caught"); else it fails ("missed").
+void judge_bug(const BugSpec& bug, nlohmann::json& row) {
+  std::vector<std::string> silent;
+  for (const std::string& name : bug.caught_by) {
+    bool failed = false;
+    for (const nlohmann::json& c : row.value("checks", nlohmann::json::array()))
+      failed |= c.value("name", "") == name && c.value("verdict", "") == "fail";
+    if (!failed) silent.push_back(name);
+  }
+  const bool caught = silent.empty();
+  row["bug"] = {{"source", bug.source}, {"symptom", bug.symptom}, {"caught_by", bug.caught_by},
+                {"caught", caught}, {"silent_checks", silent}};
+  row["exit_code"] = caught ? 0 : 1;
+  row["verdict"] = caught ? "caught" : "missed";
+}
+
 // Runs one scenario, in this process, and fills its suite row (the child's
 // half of run_isolated).
 void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
   int code = 0;
   row.erase("error");
+  std::optional<BugSpec> bug;
   try {
     const Scenario scenario = load_scenario(file);
     row["name"] = scenario.name;
+    bug = scenario.bug;
     RunOptions ro;
     ro.device = o.device;
     ro.out_dir = o.out_dir / scenario.name;
@@ -125,6 +144,7 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
   }
   row["exit_code"] = code;
   row["verdict"] = code == 0 ? "pass" : code == 1 ? "fail" : code == 2 ? "bad_input" : "error";
+  if (bug && (code == 0 || code == 1)) judge_bug(*bug, row);
 }
 
 // Verdicts that say the scenario gave no result of its own making: --resume
@@ -203,7 +223,7 @@ void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nl
   }
   row["log"] = std::filesystem::relative(kept, o.out_dir).string();
   const std::string verdict = row.value("verdict", "");
-  if (verdict != "pass" && verdict != "fail") row["log_tail"] = tail_of_file(kept, 20);
+  if (verdict != "pass" && verdict != "fail" && verdict != "caught" && verdict != "missed") row["log_tail"] = tail_of_file(kept, 20);
 }
 
 // Compares a completed scenario with its baseline: its figures within
@@ -221,7 +241,7 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
   if (row["change"]["status"] == "changed" && o.fail_on_change) {
     row["change"]["fails"] = true;
     row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
-    if (row["verdict"] == "pass") row["verdict"] = "changed";
+    if (row["verdict"] == "pass" || row["verdict"] == "caught") row["verdict"] = "changed";
   }
   const std::optional<ScenarioFigures> baseline = read_baseline(class_dir, name);
   if (!baseline) {
@@ -237,7 +257,7 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
   for (const FigureDelta& d : cmp.deltas) row["regressions"].push_back(d.to_json());
   if (cmp.regressions() > 0) {
     row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
-    if (row["verdict"] == "pass" || row["verdict"] == "changed") row["verdict"] = "regressed";
+    if (row["verdict"] == "pass" || row["verdict"] == "changed" || row["verdict"] == "caught") row["verdict"] = "regressed";
   }
 }
 
@@ -392,6 +412,15 @@ int run_nightly(const NightlyOptions& o) {
       spdlog::error("regression: {} {}: baseline {}, measured {}, tolerance {}", row.value("name", "?"),
                     d.value("metric", ""), d["baseline"].dump(), d["measured"].dump(), d.value("tolerance", ""));
     }
+  if (suite.contains("bugs")) {
+    for (const nlohmann::json& row : suite["scenarios"])
+      if (row.contains("bug") && !row["bug"].value("caught", false))
+        spdlog::error("missed bug: {} ({}): {} did not fail", row.value("name", "?"), row["bug"].value("source", ""),
+                      row["bug"]["silent_checks"].dump());
+    const nlohmann::json& b = suite["bugs"];
+    spdlog::info("bugs: {} caught, {} missed: catch rate {:.0f} %", b["caught"].get<int>(), b["missed"].get<int>(),
+                 100.0 * b["catch_rate"].get<double>());
+  }
   if (suite["baseline_status"] != "found")
     spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
                  "update --from {}`)", class_dir.string(), o.out_dir.string());
