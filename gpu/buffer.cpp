@@ -129,6 +129,7 @@ void Buffer::upload_bytes(const void* data, VkDeviceSize bytes, VkDeviceSize off
     throw DeviceError(fmt::format("buffer '{}': upload of {} bytes at {} exceeds its {} bytes", name_, bytes, offset,
                                   size_));
   if (!bytes) return;
+  owner_->count_transfer(false, bytes);
   if (mapped_) {
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
     return;
@@ -148,6 +149,7 @@ void Buffer::download_bytes(void* data, VkDeviceSize bytes, VkDeviceSize offset)
     throw DeviceError(fmt::format("buffer '{}': download of {} bytes at {} exceeds its {} bytes", name_, bytes,
                                   offset, size_));
   if (!bytes) return;
+  owner_->count_transfer(true, bytes);
   if (mapped_) {
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;

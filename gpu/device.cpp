@@ -415,6 +415,7 @@ Device& Device::operator=(Device&& other) noexcept {
     backend_ = other.backend_;
     staged_buffers_ = other.staged_buffers_;
     staging_ = std::move(other.staging_);
+    transfers_ = other.transfers_;
   }
   return *this;
 }

@@ -105,6 +105,16 @@ class Device {
   // A host-visible, preferably host-cached buffer of at least `bytes` for
   // staging copies; reused (grown when needed). Valid until the next call.
   Buffer& staging(VkDeviceSize bytes);
+  // Bytes moved between host and buffers since the device was made (either
+  // memory mode): what observing the pipeline costs in transfers.
+  struct TransferCounts {
+    std::uint64_t downloaded = 0, uploaded = 0, downloads = 0, uploads = 0;
+  };
+  const TransferCounts& transfers() const { return transfers_; }
+  void count_transfer(bool download, std::uint64_t bytes) {
+    (download ? transfers_.downloaded : transfers_.uploaded) += bytes;
+    ++(download ? transfers_.downloads : transfers_.uploads);
+  }
 
   // Records with `record` into a fresh primary command buffer, submits it to
   // the compute queue and waits for it to finish.
@@ -138,6 +148,7 @@ class Device {
   bool staged_buffers_ = false;
   bool recording_ = false;  // inside submit_and_wait's record callback
   std::unique_ptr<Buffer> staging_;
+  TransferCounts transfers_;
 };
 
 }  // namespace gi::gpu

@@ -156,6 +156,7 @@ void FrameLoop::run() {
   std::optional<gpu::WorldCacheFrameStats> cache_stats;
   for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
     inject_test_fault(scenario_.name, frame);
+    const gpu::Device::TransferCounts transfers_before = device_.transfers();
     apply_frame_events(frame);
     const GpuCamera camera = make_gpu_camera(scene_.camera, width, height);
     renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
@@ -198,6 +199,12 @@ void FrameLoop::run() {
         setup_.checks[i]->observe(FrameView(data, needs.reads), record);
     }
     frame_image_hashes_.push_back(bytes_hash(output_.pixels.data(), output_.pixels.size() * sizeof(glm::vec3)));
+    // What observing this frame moved (the frame record's and the checks'
+    // readbacks, scene updates); state hashes and captures come after.
+    const gpu::Device::TransferCounts& now = device_.transfers();
+    record["transfers"] = {{"downloaded_bytes", now.downloaded - transfers_before.downloaded},
+                           {"downloads", now.downloads - transfers_before.downloads},
+                           {"uploaded_bytes", now.uploaded - transfers_before.uploaded}};
     frame_log_.add(record);
     const bool last = frame + 1 == setup_.frames;
     if (hash_log_ || last) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -95,6 +96,35 @@ TEST(BufferMemory, AStagedRunHasTheMappedRunsBits) {
   ASSERT_FALSE(summaries[0]["hashes"]["final_buffers"].empty());
   EXPECT_EQ(summaries[0]["hashes"], summaries[1]["hashes"]);
   EXPECT_EQ(summaries[0]["final_image_hash"], summaries[1]["final_image_hash"]);
+}
+
+// Observation reads back only what is judged: a realtime reference check
+// judging frame 12 alone reads both chains' temporal means on frame 12 and
+// nothing beyond the frame record's own readback on every other frame
+// (summary.json's per-frame "transfers", counted by the device).
+TEST(BufferMemory, ACheckJudgingOneFrameReadsBackOnlyOnThatFrame) {
+  test::TempDir dir("buffer-memory-judged");
+  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/di_cornell_box.json");
+  doc.erase("$schema");
+  doc["frames"] = 16;
+  doc["resolution"] = {64, 36};
+  doc["checks"] = {{{"name", "reference"}, {"frames", {12}}, {"spp", 16}}};
+  const auto file = dir.path() / "judged.json";
+  std::ofstream(file) << doc.dump(1);
+  const auto out = dir.path() / "out";
+  const test::CommandResult r = test::run_giharness("run " + file.string() + " --out " + out.string());
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.output;  // the verdict is not the point
+  const nlohmann::json frames = test::read_json(out / "summary.json").at("frames");
+  ASSERT_EQ(frames.size(), 16u);
+  const std::uint64_t image = 64u * 36u * 16u;  // one chain's DI signal, vec4 per pixel
+  const std::uint64_t base = frames[1]["transfers"]["downloaded_bytes"];
+  EXPECT_GE(base, image);
+  EXPECT_LT(base, image + 4096) << "more than the frame's output and small statistics";
+  for (const nlohmann::json& f : frames) {
+    const std::uint64_t bytes = f["transfers"]["downloaded_bytes"];
+    if (f["frame"] == 12) EXPECT_GE(bytes, base + 2 * image) << "frame 12 reads both chains' means";
+    else EXPECT_EQ(bytes, base) << "frame " << f["frame"];
+  }
 }
 
 TEST(BufferMemory, AnUnknownChoiceIsBadInput) {
