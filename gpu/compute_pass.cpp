@@ -78,7 +78,9 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
     cpci.layout = layout_;
     const auto compile_start = std::chrono::steady_clock::now();
     VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline_);
-    // The driver's compile (lavapipe: LLVM), cached by the driver, not by us.
+    // The driver's compile, cached by the driver, not by us. lavapipe defers
+    // its LLVM compile to the first dispatch: a variant new to its cache costs
+    // there, up to minutes for the GI passes (README "Tests").
     spdlog::debug("pass '{}': pipeline created in {:.0f} ms", name_,
                   std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - compile_start).count());
     if (r != VK_SUCCESS)

@@ -27,14 +27,11 @@ std::optional<nlohmann::json> read_baseline_document(const std::filesystem::path
   return read_json_input(file, "a baseline");
 }
 
-std::optional<ScenarioFigures> read_baseline(const std::filesystem::path& class_dir, const std::string& scenario) {
-  const std::optional<nlohmann::json> doc = read_baseline_document(class_dir, scenario);
-  if (!doc) return std::nullopt;
+ScenarioFigures baseline_figures(const nlohmann::json& doc, const std::filesystem::path& file) {
   try {
-    return ScenarioFigures::from_json(*doc);
+    return ScenarioFigures::from_json(doc);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(baseline_file(class_dir, scenario).string(), "",
-                     std::string("a baseline with \"figures\" and \"verdicts\" (") + e.what() + ")");
+    throw InputError(file.string(), "", std::string("a baseline with \"figures\" and \"verdicts\" (") + e.what() + ")");
   }
 }
 

@@ -19,9 +19,8 @@ namespace gi {
 
 std::filesystem::path baseline_file(const std::filesystem::path& class_dir, const std::string& scenario);
 
-// The scenario's baseline, or nothing when the file does not exist.
-// InputError naming the file when it exists but is malformed.
-std::optional<ScenarioFigures> read_baseline(const std::filesystem::path& class_dir, const std::string& scenario);
+// A baseline document's figures; `file` names it in the error when they are malformed.
+ScenarioFigures baseline_figures(const nlohmann::json& doc, const std::filesystem::path& file);
 
 // The whole baseline document (figures, verdicts, device, hashes), or nothing.
 std::optional<nlohmann::json> read_baseline_document(const std::filesystem::path& class_dir,

@@ -1,12 +1,11 @@
 // Checks by name. Each check file registers itself in an anonymous-namespace
-// object:
+// object, which also declares its name and keys to the scenario parser
+// (core/check_catalog.h):
 //
 //   const RegisteredCheck<FiniteCheck> kRegistration{{"finite", kSchema, {}}};
 //
-// (or, where the kind of check depends on the context, a CheckRegistration
-// with its own factory: the reference check)
-// which also declares its name and keys to the scenario parser
-// (core/check_catalog.h). Nothing else names a check: the parser, the frame
+// Where the kind of check depends on the context (the reference check), a
+// CheckRegistration with its own factory does the same. Nothing else names a check: the parser, the frame
 // loop, the summary, the JUnit writer and the reports find them here or in
 // the results. (The giharness and test binaries link gi_replay whole, so
 // registrations in otherwise unreferenced files are kept.)

@@ -243,13 +243,13 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
     row["exit_code"] = std::max(row["exit_code"].get<int>(), 1);
     if (row["verdict"] == "pass" || row["verdict"] == "caught") row["verdict"] = "changed";
   }
-  const std::optional<ScenarioFigures> baseline = read_baseline(class_dir, name);
-  if (!baseline) {
+  if (!doc) {
     row["baseline_status"] = "no_baseline";
     row["regressions"] = nlohmann::json::array();
     return;
   }
-  const BaselineComparison cmp = compare_to_baseline(*baseline, extract_figures(summary), load_tolerance_rules(class_dir));
+  const ScenarioFigures baseline = baseline_figures(*doc, baseline_file(class_dir, name));
+  const BaselineComparison cmp = compare_to_baseline(baseline, extract_figures(summary), load_tolerance_rules(class_dir));
   row["baseline_status"] = "compared";
   row["baseline"] = baseline_file(class_dir, name).string();
   row["figures_compared"] = cmp.compared;
