@@ -2,8 +2,6 @@
 
 #include <map>
 
-#include <fmt/format.h>
-#include <xxhash.h>
 
 #include "core/atomic_file.h"
 #include "core/exr_io.h"
@@ -14,8 +12,6 @@
 
 namespace gi {
 namespace {
-
-std::string hash_of(const void* data, std::size_t bytes) { return fmt::format("{:016x}", XXH3_64bits(data, bytes)); }
 
 // Timing statistics over the kept records: every frame up to the log's
 // capacity, a regular subsample of longer runs (frames_log says which).
@@ -63,7 +59,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   s["checks"] = checks;
   add_frames(run.loop.frame_log(), s);
   const Image& last = run.loop.last_output();
-  s["final_image_hash"] = hash_of(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
+  s["final_image_hash"] = bytes_hash(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
   // What a baseline keeps to report any change exactly (reports/change.h):
   // the image hash per frame, every state buffer's hash after the last frame,
   // and the final image (half-float EXR: a baseline stores it, and the
@@ -77,7 +73,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   if (setup.renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.
     const gpu::WorldCache& cache = run.loop.renderer().world_cache();
-    auto hash = [](const auto& v) { return hash_of(v.data(), v.size() * sizeof(v[0])); };
+    auto hash = [](const auto& v) { return bytes_hash(v.data(), v.size() * sizeof(v[0])); };
     s["world_cache_hashes"] = {{"checksums", hash(cache.checksums())},
                                {"life", hash(cache.life())},
                                {"radiance", hash(cache.radiance())},

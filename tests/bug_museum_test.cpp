@@ -25,11 +25,6 @@ nlohmann::json broken_corners(const std::string& name, const nlohmann::json& bug
   return doc;
 }
 
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 TEST(BugMuseum, NightlyReportsCaughtAndMissedBugsAndTheCatchRate) {
   test::TempDir dir("bug-museum");
   const auto suite = dir.path() / "bugs";
@@ -62,12 +57,12 @@ TEST(BugMuseum, NightlyReportsCaughtAndMissedBugsAndTheCatchRate) {
 
   // JUnit: the missed bug's silent check is the one failure; the caught
   // bug's failing jacobian check is not a failure.
-  const std::string junit = read_text(out / "junit.xml");
+  const std::string junit = test::read_text(out / "junit.xml");
   EXPECT_NE(junit.find("failures=\"1\""), std::string::npos) << junit;
   EXPECT_NE(junit.find("missed bug test#2: finite passed"), std::string::npos) << junit;
   EXPECT_EQ(junit.find("test#1: jacobian passed"), std::string::npos) << junit;
 
-  const std::string report = read_text(out / "report.html");
+  const std::string report = test::read_text(out / "report.html");
   EXPECT_NE(report.find("<h2>Bug museum</h2>"), std::string::npos);
   EXPECT_NE(report.find("catch rate <b>50 %</b>"), std::string::npos);
 }

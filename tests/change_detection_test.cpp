@@ -16,11 +16,6 @@
 namespace gi {
 namespace {
 
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // The tiny suite plus the realtime Cornell box, each scenario optionally
 // changed by one --vary-style setting.
 std::filesystem::path make_suite(const std::filesystem::path& dir, const std::string& setting = "") {
@@ -80,7 +75,7 @@ TEST_F(ChangeDetection, UnchangedTreeIsUnchangedForEveryScenario) {
     EXPECT_GT(row["change"]["buffers_compared"].get<int>(), 0);
   }
   EXPECT_EQ(suite["changes"]["unchanged"], 4);
-  EXPECT_NE(slurp(out / "junit.xml").find("<property name=\"change\" value=\"unchanged\"/>"), std::string::npos);
+  EXPECT_NE(test::read_text(out / "junit.xml").find("<property name=\"change\" value=\"unchanged\"/>"), std::string::npos);
 }
 
 // The seeded change: ReSTIR DI's confidence cap 20 → 19 moves the realtime
@@ -111,10 +106,10 @@ TEST_F(ChangeDetection, NudgedProfileValueIsChangedWithFrameBuffersAndHeatMap) {
   EXPECT_GT(c["image"]["pixels_differing"].get<int>(), 0);
   for (const char* image : {"baseline", "current", "difference"})
     EXPECT_TRUE(std::filesystem::exists(out / c["images"][image].get<std::string>())) << image;
-  const std::string report = slurp(out / "report.html");
+  const std::string report = test::read_text(out / "report.html");
   EXPECT_NE(report.find("Bits against the exact baseline"), std::string::npos);
   EXPECT_NE(report.find("|Δ luminance|, white at"), std::string::npos);
-  const std::string junit = slurp(out / "junit.xml");
+  const std::string junit = test::read_text(out / "junit.xml");
   EXPECT_NE(junit.find("<property name=\"change\" value=\"changed\"/>"), std::string::npos);
   EXPECT_NE(junit.find("<property name=\"change_relmse\""), std::string::npos);
 
@@ -123,7 +118,7 @@ TEST_F(ChangeDetection, NudgedProfileValueIsChangedWithFrameBuffersAndHeatMap) {
   const test::CommandResult f = test::run_giharness(args + strict.string() + " --fail-on-change");
   EXPECT_EQ(f.exit_code, 1) << f.output;
   EXPECT_EQ(row_named(test::read_json(strict / "summary.json"), "realtime_cornell")["verdict"], "changed");
-  EXPECT_NE(slurp(strict / "junit.xml").find("changed against the exact baseline (--fail-on-change)"), std::string::npos);
+  EXPECT_NE(test::read_text(strict / "junit.xml").find("changed against the exact baseline (--fail-on-change)"), std::string::npos);
 }
 
 // --- in process ---

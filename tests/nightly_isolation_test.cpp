@@ -13,11 +13,6 @@
 namespace gi {
 namespace {
 
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // The tiny suite's three scenarios: tiny_cornell, tiny_light_toggle (the one
 // the faults aim at), tiny_no_blocks; `middle` replaces the second file.
 std::filesystem::path suite_of_three(const std::filesystem::path& dir, const std::string& middle = "") {
@@ -63,9 +58,9 @@ void expect_middle_only(const test::TempDir& dir, const Night& n, const std::str
   EXPECT_NE(row.value("error", "").find(reason), std::string::npos) << row.dump(1);
   EXPECT_TRUE(row.contains("log_tail")) << row.dump(1);
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "out" / row.value("log", "?"))) << row.dump(1);
-  const std::string junit = slurp(dir.path() / "out/junit.xml");
+  const std::string junit = test::read_text(dir.path() / "out/junit.xml");
   EXPECT_NE(junit.find("<error"), std::string::npos) << junit;
-  EXPECT_NE(slurp(dir.path() / "out/report.html").find(verdict), std::string::npos);
+  EXPECT_NE(test::read_text(dir.path() / "out/report.html").find(verdict), std::string::npos);
 }
 
 TEST(NightlyIsolation, AHostileScenarioIsBadInputAndTheNightGoesOn) {
@@ -109,7 +104,7 @@ TEST(NightlyIsolation, ADeviceLossIsThatScenariosVerdictAndResumeRetriesIt) {
 
 TEST(NightlyIsolation, AScenariosOwnTimeoutWinsOverTheSuites) {
   const test::TempDir dir("isolation-own-timeout");
-  std::string toggle = slurp(test::source_dir() / "tests/data/suites/tiny/tiny_light_toggle.json");
+  std::string toggle = test::read_text(test::source_dir() / "tests/data/suites/tiny/tiny_light_toggle.json");
   toggle.insert(toggle.find('{') + 1, "\n  \"timeout_seconds\": 3,");
   const Night n = nightly(dir, suite_of_three(dir.path(), toggle), "GIHARNESS_TEST_FAULT=hang@3:tiny_light_toggle",
                           "--scenario-timeout 600");

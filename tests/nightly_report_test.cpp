@@ -27,11 +27,6 @@ namespace {
 
 std::filesystem::path tiny_suite() { return test::source_dir() / "tests/data/suites/tiny"; }
 
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // A suite folder holding the named scenarios of the tiny suite, each
 // optionally changed by one `--vary`-style setting (the mechanism the sweep
 // uses: a scenario key, a JSON Pointer, or a profile key).
@@ -103,14 +98,14 @@ TEST(Nightly, SeededRegressionIsReportedWithBaselineMeasuredAndTolerance) {
   EXPECT_FALSE((*lum)["tolerance"].get<std::string>().empty());
   EXPECT_LT(m, (*lum)["limit"].get<double>());
 
-  const std::string xml = slurp(out / "junit.xml");
+  const std::string xml = test::read_text(out / "junit.xml");
   const std::size_t c = xml.find("classname=\"tiny_cornell\" name=\"baseline\"");
   ASSERT_NE(c, std::string::npos) << xml;
   const std::size_t f = xml.find("<failure", c);
   ASSERT_NE(f, std::string::npos) << xml;
   EXPECT_LT(f, xml.find("</testcase>", c));
   EXPECT_NE(xml.find("frames/last/mean_luminance regressed", f), std::string::npos) << xml;
-  EXPECT_NE(slurp(out / "report.html").find("frames/last/mean_luminance"), std::string::npos);
+  EXPECT_NE(test::read_text(out / "report.html").find("frames/last/mean_luminance"), std::string::npos);
 }
 
 // The seeded regression the issue names: the sunlit yard's light toggle
@@ -156,7 +151,7 @@ TEST(Nightly, SeededRegressionOf017BlendAgainst018Baseline) {
             std::string::npos) << r.output;
 
   // JUnit: the blend_lag case fails, carrying its regressed figures.
-  const std::string xml = slurp(out / "junit.xml");
+  const std::string xml = test::read_text(out / "junit.xml");
   const std::size_t c = xml.find("classname=\"cache_light_toggle_yard\" name=\"blend_lag\"");
   ASSERT_NE(c, std::string::npos) << xml;
   const std::size_t f = xml.find("<failure", c);
@@ -234,7 +229,7 @@ int nightly_signalled_after_first(const test::TempDir& dir, const std::filesyste
     } catch (...) {
     }
   }
-  EXPECT_TRUE(first_done) << slurp(dir.path() / "log.txt");
+  EXPECT_TRUE(first_done) << test::read_text(dir.path() / "log.txt");
   ::kill(pid, sig);
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -248,15 +243,15 @@ TEST(Nightly, InterruptedNightLeavesValidSummaryAndResumes) {
   const std::filesystem::path out = dir.path() / "out";
   const std::string out_s = out.string(), suite_s = tiny_suite().string(), none = (dir.path() / "none").string();
   const int status = nightly_signalled_after_first(dir, out, SIGINT);
-  ASSERT_TRUE(WIFEXITED(status)) << slurp(dir.path() / "log.txt");
-  EXPECT_EQ(WEXITSTATUS(status), 3) << slurp(dir.path() / "log.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << test::read_text(dir.path() / "log.txt");
+  EXPECT_EQ(WEXITSTATUS(status), 3) << test::read_text(dir.path() / "log.txt");
   const nlohmann::json interrupted = test::read_json(out / "summary.json");
   EXPECT_TRUE(interrupted.value("interrupted", false));
   std::size_t complete = 0;
   for (const nlohmann::json& row : interrupted["scenarios"]) complete += row["status"] == "complete";
   ASSERT_GE(complete, 1u);
   ASSERT_LT(complete, 3u) << "the night ended before the signal; nothing to resume";
-  EXPECT_NE(slurp(out / "junit.xml").find("<skipped"), std::string::npos);
+  EXPECT_NE(test::read_text(out / "junit.xml").find("<skipped"), std::string::npos);
   const nlohmann::json first_row = interrupted["scenarios"][0];
 
   const test::CommandResult resumed =

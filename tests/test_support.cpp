@@ -37,6 +37,11 @@ nlohmann::json read_json(const std::filesystem::path& file) {
   return nlohmann::json::parse(in);
 }
 
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 std::filesystem::path source_dir() { return GIHARNESS_SOURCE_DIR; }
 
 const DeviceSupport& device_support() {

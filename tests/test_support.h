@@ -61,6 +61,8 @@ class TempDir {
 };
 
 nlohmann::json read_json(const std::filesystem::path& file);
+// The file's bytes (empty when it cannot be read).
+std::string read_text(const std::filesystem::path& file);
 
 // ---- The Vulkan device the tests run on. Without --device, gpu::Device and
 // `giharness` take lavapipe when present, else the first device with ray
