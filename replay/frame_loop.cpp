@@ -184,6 +184,7 @@ void FrameLoop::run() {
       cache_stats = renderer_->world_cache().stats();
       data.cache_stats = &*cache_stats;
       record["world_cache"] = {{"active_cells", cache_stats->active_cells},
+                               {"updated_cells", cache_stats->updated_cells},
                                {"live_cells", cache_stats->live_cells},
                                {"mean_radiance", json_figure(cache_stats->mean_radiance)},
                                {"oldest_age", cache_stats->oldest_age},

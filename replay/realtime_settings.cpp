@@ -45,6 +45,11 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.linear_probing = p.text("world_cache.probing") == "linear";
   s.cell_size_base = static_cast<float>(p.number("world_cache.cell_size_base"));
   s.lod_scale = static_cast<float>(p.number("world_cache.lod_scale"));
+  s.stochastic_lod = p.text("world_cache.lod_choice") == "stochastic";
+  s.jitter = p.text("world_cache.query_jitter") == "tangent_plane";
+  s.normal_key_scale = p.text("world_cache.normal_key") == "half_unit" ? 2.0f : 1.0f;
+  s.first_bounce_leak_rule = p.flag("world_cache.first_bounce_leak_rule");
+  s.update_soft_cap = static_cast<std::uint32_t>(p.integer("world_cache.update_soft_cap"));
   s.cache_to_cache_full = p.text("world_cache.cache_to_cache_life") == "full";
   s.adaptive_blend = p.text("world_cache.blend") == "adaptive";
   s.max_samples = static_cast<float>(p.number("world_cache.max_samples"));

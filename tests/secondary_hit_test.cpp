@@ -50,7 +50,7 @@ struct UniformCacheBridge : EmbreeBridge {
   vec3 irradiance = vec3(0.0f);
   float cell_size = 1.0f;
 #include "core/shared/secondary_hit.h"
-  vec3 hit_cache_irradiance(vec3, vec3, CacheQuery) { return irradiance; }
+  vec3 hit_cache_irradiance(vec3, vec3, float, CacheQuery, uint&) { return irradiance; }
   float hit_cache_cell_size(vec3) { return cell_size; }
 };
 

@@ -40,7 +40,7 @@ TEST(WorldCacheMaths, ChecksumNeverEmptyAndKeysStayInTheTable) {
   for (int i = 0; i < 2000; ++i) {
     const vec3 p(0.37f * float(i), -1.1f * float(i % 7), 0.05f * float(i % 13));
     const uvec3 qp = world_cache_quantize_position(p, 0.25f);
-    const uvec3 qn = world_cache_quantize_normal(normalize(vec3(0.2f, 1.0f, -0.1f)));
+    const uvec3 qn = world_cache_quantize_normal(normalize(vec3(0.2f, 1.0f, -0.1f)), 1.0f);
     EXPECT_NE(world_cache_checksum(qp, qn), WORLD_CACHE_EMPTY_CELL);
     const uint k = world_cache_key(qp, qn, 1u << 16);
     EXPECT_LT(k, 1u << 16);

@@ -23,22 +23,24 @@
 //                         realtime/restir_gi.wgsl:120, world_cache_update.wgsl:43,
 //                         specular_gi.wgsl:116), 0 "diffuse" base·(1 − metallic)
 // and, for HIT_RADIANCE 2, the cache it ends in:
-//   vec3  hit_cache_irradiance(vec3 position, vec3 ng, CacheQuery q);
+//   vec3  hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, INOUT(uint) rng);
 //   float hit_cache_cell_size(vec3 position);   // the cell's edge there
 // No include guard on purpose (C++ includes it into each bridge struct).
 
 // Where a path ending in the world cache queries it: the life and root frame
-// the query passes on, its id in the pending list, and which list
+// the query passes on, its id in the pending list, which list, and whether it
+// is ReSTIR GI's first bounce (0.19's light-leak rule applies there only)
 // (world_cache_query's parameters; unused for HIT_RADIANCE 0 and 1).
 struct CacheQuery {
   uint life;
   uint root_frame;
   uint id;
   uint list;
+  uint first_bounce;
 };
 
 #if HIT_RADIANCE == 2 && !defined(__cplusplus)
-vec3 hit_cache_irradiance(vec3 position, vec3 ng, CacheQuery q);
+vec3 hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, inout uint rng);
 float hit_cache_cell_size(vec3 position);
 #endif
 
@@ -52,8 +54,9 @@ GI_FN uint hit_mis_heuristic() { return HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BAL
 // when it reuses the GI sample on rough pixels. The albedo is estimated with
 // one bounded-VNDF sample's weight F·G2/G1 (unbiased, no ray traced;
 // Karis's analytic fit was up to 0.2 off this BRDF). ng faces the ray, v
-// towards where it came from.
-GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuery q, INOUT(uint) rng) {
+// towards where it came from, ray_t the length of the ray that found s.
+GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray_t, CacheQuery q,
+                             INOUT(uint) rng) {
   GpuMaterial m = scene_material(s.material);
 #if HIT_ALBEDO_BASE != 0 && HIT_SURFACES_FULL == 0
   // ("full" models the lobes itself: the diffuse colour plus the specular albedo.)
@@ -71,7 +74,7 @@ GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, CacheQuer
 #if HIT_RADIANCE == 2
   // Solari's query_world_cache at the hit. Queried even on a black surface,
   // as Solari does, so the cell exists.
-  return albedo * INV_PI * hit_cache_irradiance(s.position, ng, q);
+  return albedo * INV_PI * hit_cache_irradiance(s.position, ng, ray_t, q, rng);
 #else
   if (max3(albedo) <= 0.0f) return vec3(0.0f);
   vec3 spawn = offset_ray_origin(s.position, ng);
@@ -160,7 +163,7 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     }
 #endif
     if (end_here) {
-      radiance += throughput * end_path_radiance(s, hng, hns, v, q, rng);
+      radiance += throughput * end_path_radiance(s, hng, hns, v, hit.t, q, rng);
       break;
     }
     vec3 spawn = offset_ray_origin(s.position, hng);
@@ -177,6 +180,7 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     spread_pdf = mirror ? 1e30f : pdf;
 #endif
     dir = l;
+    q.first_bounce = 0u;  // a later vertex is not GI's first bounce
     if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
       radiance += throughput * escaped_radiance(dir, previous_pdf);
       break;
@@ -194,6 +198,6 @@ GI_FN vec3 secondary_hit_radiance(Hit hit, SurfacePoint s, vec3 ng, vec3 ns, vec
 #if HIT_SURFACES_FULL != 0
   return glossy_path_radiance(hit, dir, q, glossy_path_end(-1.0f, 0.0f, 0.0f), rng);
 #else
-  return end_path_radiance(s, ng, ns, -dir, q, rng);
+  return end_path_radiance(s, ng, ns, -dir, hit.t, q, rng);
 #endif
 }

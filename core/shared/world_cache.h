@@ -7,6 +7,7 @@
 #define GI_SHARED_WORLD_CACHE_H
 #include "host_device.h"
 #include "rng.h"
+#include "sampling.h"
 
 GI_SHADER_BEGIN
 
@@ -15,6 +16,8 @@ GI_CONST uint WORLD_CACHE_NO_CLAIM = 0xFFFFFFFFu;  // claims[] of a cell nobody 
 // Random streams of the cache update (added to nothing: one chain).
 GI_CONST uint RNG_DOMAIN_WORLD_CACHE_DI = 0x61C88647u;
 GI_CONST uint RNG_DOMAIN_WORLD_CACHE_GI = 0x7FEB352Du;
+GI_CONST uint RNG_DOMAIN_WORLD_CACHE_SOFT_CAP = 0x2C1B3C6Du;  // which cells this frame's update skips (0.19)
+GI_CONST uint RNG_DOMAIN_WORLD_CACHE_VIEW = 0x297A2D39u;      // the cache view's jitter and LOD draws (0.19)
 // Fixed point of the per-frame radiance sum (stats): 1/1024 of a unit of
 // luminance per cell, summed in 64 bits as two uints, so the sum is exact and
 // independent of the order the atomics land in.
@@ -33,11 +36,48 @@ GI_FN float world_cache_cell_size(vec3 position, vec3 view_position, float base,
   return base * exp2(floor(log2(1.0f + d)));
 }
 
+// Solari 0.19's get_cell_size (v0.19.0:realtime/world_cache_query.wgsl:98-104):
+// the LOD's fractional part picks the next LOD with probability fract³, so
+// cells change size gradually with distance instead of at one radius. u is
+// uniform in [0, 1).
+GI_FN float world_cache_cell_size_stochastic(vec3 position, vec3 view_position, float base, float lod_scale,
+                                             float u) {
+  float lod_f = log2(1.0f + distance(view_position, position) / lod_scale);
+  float f = fract(lod_f);
+  float lod = floor(lod_f) + (u < f * f * f ? 1.0f : 0.0f);
+  return base * exp2(lod);
+}
+
+// Solari 0.19's query jitter (v0.19.0:realtime/world_cache_query.wgsl:54-61,
+// after Clabault's jitter_world_position_tangent_plane): the query point moves
+// by up to half a cell along each tangent of the normal, which blurs the
+// cache's grid. u uniform in [0, 1)². orthonormal_basis is Duff et al.'s, as
+// Bevy's orthonormalize.
+GI_FN vec3 world_cache_jitter(vec3 position, vec3 normal, float cell_size, vec2 u) {
+  vec2 offset = (u * 2.0f - 1.0f) * cell_size * 0.5f;
+  return position + to_world(vec3(offset.x, offset.y, 0.0f), normal);
+}
+
 GI_FN uvec3 world_cache_quantize_position(vec3 position, float cell_size) {
   return floatBitsToUint(floor(position / cell_size + 0.0001f));
 }
 
-GI_FN uvec3 world_cache_quantize_normal(vec3 normal) { return floatBitsToUint(floor(normal + 0.0001f)); }
+// The normal's part of the key: floor(n · scale), scale 1 up to 0.18 (one of
+// a few octants), 2 in 0.19 (half-unit steps: finer, so walls at an angle and
+// the two sides of a thin slab share fewer cells;
+// v0.19.0:realtime/world_cache_query.wgsl:111).
+GI_FN uvec3 world_cache_quantize_normal(vec3 normal, float scale) {
+  return floatBitsToUint(floor(normal * scale + 0.0001f));
+}
+
+// Solari 0.19's soft cap on the cells updated a frame
+// (v0.19.0:realtime/world_cache_update.wgsl:37,52,71): with more than `cap`
+// active cells, each is updated with probability cap / active, the same
+// draw in the DI, GI and blend passes. cap 0: every cell (0.17, 0.18). u is
+// the cell's draw for this frame, uniform in [0, 1).
+GI_FN bool world_cache_update_skipped(uint cap, uint active_cells, float u) {
+  return cap != 0u && u >= float(cap) / float(active_cells);
+}
 
 // Table index: chained pcg_hash, masked to the (power-of-two) table.
 GI_FN uint world_cache_key(uvec3 qp, uvec3 qn, uint cells) {
@@ -158,7 +198,7 @@ struct WorldCacheStats {
   uint life_out_of_range;     // life > lifetime
   uint dead_not_empty;        // life == 0 with a checksum
   uint nonfinite_cells;       // inf/NaN radiance
-  uint pad0;
+  uint updated_cells;         // active cells this frame's update blended (fewer under 0.19's soft cap)
   uint pad1;
   uint pad2;
 };

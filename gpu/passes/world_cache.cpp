@@ -76,6 +76,11 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_LINEAR_PROBING", linear_probing ? "1" : "0"},
                                  {"WORLD_CACHE_CELL_SIZE_BASE", f(cell_size_base)},
                                  {"WORLD_CACHE_LOD_SCALE", f(lod_scale)},
+                                 {"WORLD_CACHE_STOCHASTIC_LOD", stochastic_lod ? "1" : "0"},
+                                 {"WORLD_CACHE_JITTER", jitter ? "1" : "0"},
+                                 {"WORLD_CACHE_NORMAL_KEY_SCALE", f(normal_key_scale)},
+                                 {"WORLD_CACHE_LEAK_RULE", first_bounce_leak_rule ? "1" : "0"},
+                                 {"WORLD_CACHE_UPDATE_SOFT_CAP", std::to_string(update_soft_cap)},
                                  {"WORLD_CACHE_C2C_FULL", cache_to_cache_full ? "1" : "0"},
                                  {"WORLD_CACHE_ADAPTIVE", adaptive_blend ? "1" : "0"},
                                  {"WORLD_CACHE_MAX_SAMPLES", f(max_samples)},
@@ -268,6 +273,7 @@ WorldCacheFrameStats WorldCache::stats() const {
   f.life_out_of_range = s.life_out_of_range;
   f.dead_not_empty = s.dead_not_empty;
   f.nonfinite_cells = s.nonfinite_cells;
+  f.updated_cells = s.updated_cells;
   return f;
 }
 

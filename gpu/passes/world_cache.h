@@ -35,6 +35,16 @@ struct WorldCacheSettings {
   bool linear_probing = true;           // false: re-hash (0.17)
   float cell_size_base = 0.25f;
   float lod_scale = 8.0f;
+  // Solari 0.19's query (v0.19.0:realtime/world_cache_query.wgsl:43-112) and
+  // update: the LOD drawn between two sizes, the query point jittered in the
+  // tangent plane, the normal keyed at half-unit steps, ReSTIR GI's short
+  // first-bounce rays querying a base cell, a soft cap on the cells updated
+  // a frame (0: none). Defaults are 0.18's.
+  bool stochastic_lod = false;
+  bool jitter = false;
+  float normal_key_scale = 1.0f;
+  bool first_bounce_leak_rule = false;
+  std::uint32_t update_soft_cap = 0;
   bool cache_to_cache_full = false;     // true: 0.17's lifetime rule
   bool adaptive_blend = true;           // false: 0.17's fixed blend
   float max_samples = 32.0f;
@@ -71,7 +81,8 @@ struct WorldCacheSettings {
 
 // One frame's statistics (settings.stats), read after render.
 struct WorldCacheFrameStats {
-  std::uint32_t active_cells = 0;      // cells this frame's update sampled
+  std::uint32_t active_cells = 0;      // cells this frame's update could sample (life > 0 at its start)
+  std::uint32_t updated_cells = 0;     // of those, the ones it blended (all but 0.19's soft cap's)
   std::uint32_t live_cells = 0;        // at the end of the frame
   std::uint32_t sampled_cells = 0;
   double mean_radiance = 0.0;          // mean luminance of the sampled cells' irradiance

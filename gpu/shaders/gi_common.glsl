@@ -111,8 +111,9 @@ vec3 gi_target_colour(vec3 base_color) {
 // A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,
 // root frame = this frame, the id from gi_cache_query_id, the pending list the
 // cache view shares; an empty cell is claimed and committed after the GI
-// passes (WorldCache::record_commit).
-CacheQuery gi_pixel_query(uint query_id) {
+// passes (WorldCache::record_commit). first_bounce: ReSTIR GI's initial
+// sample (0.19's light-leak rule, WORLD_CACHE_LEAK_RULE), not specular GI's path.
+CacheQuery gi_pixel_query(uint query_id, bool first_bounce) {
   CacheQuery q;
 #if GI_HIT_RADIANCE == 2
   q.life = uint(WORLD_CACHE_LIFETIME);
@@ -122,6 +123,7 @@ CacheQuery gi_pixel_query(uint query_id) {
   q.root_frame = frame.resolution_frame.z;
   q.id = query_id;
   q.list = 1u;
+  q.first_bounce = first_bounce ? 1u : 0u;
   return q;
 }
 

@@ -82,7 +82,7 @@ void main() {
         canonical.sample_position = vec4(s.position, 1.0);
         canonical.sample_normal.xyz = ng;
         canonical.radiance =
-            vec4(secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(0u, chain, index)), rng),
+            vec4(secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(0u, chain, index), true), rng),
                  TWO_PI);
       }
     }

@@ -9,8 +9,8 @@
 #include "core/shared/secondary_hit.h"
 
 #if HIT_RADIANCE == 2
-vec3 hit_cache_irradiance(vec3 position, vec3 ng, CacheQuery q) {
-  return world_cache_query(position, ng, q.life, q.root_frame, q.id, q.list);
+vec3 hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, inout uint rng) {
+  return world_cache_query(position, ng, ray_t, q.first_bounce != 0u, q.life, q.root_frame, q.id, q.list, rng);
 }
 
 float hit_cache_cell_size(vec3 position) {

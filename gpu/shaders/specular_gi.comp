@@ -31,7 +31,7 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumula
 vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, GlossyPathEnd path_end, inout uint rng) {
   Hit hit;
   if (!trace_closest(offset_ray_origin(position, ng), dir, RAY_TMAX, hit)) return vec3(0.0);
-  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id), path_end, rng);
+  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id, false), path_end, rng);
 }
 
 void main() {

@@ -10,6 +10,7 @@ layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= wc_counters.active_args.w) return;
+  if (wc_new_radiance[i].w != 0.0) return;  // left out by the soft cap (world_cache_sample_di)
   uint cell = wc_active[i];
   vec3 new_radiance = wc_new_radiance[i].rgb;
 #if WORLD_CACHE_ADAPTIVE

@@ -22,7 +22,7 @@ void main() {
     s.life_out_of_range = 0u;
     s.dead_not_empty = 0u;
     s.nonfinite_cells = 0u;
-    s.pad0 = 0u;
+    s.updated_cells = 0u;
     s.pad1 = 0u;
     s.pad2 = 0u;
     wc_stats = s;

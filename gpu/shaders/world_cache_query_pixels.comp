@@ -25,6 +25,8 @@ void main() {
   }
   vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
   vec3 n = dot(dir, g.geometric_normal.xyz) < 0.0 ? g.geometric_normal.xyz : -g.geometric_normal.xyz;
-  vec3 e = world_cache_query(g.position_depth.xyz, n, uint(WORLD_CACHE_LIFETIME), frame.resolution_frame.z, index, 1u);
+  uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_WORLD_CACHE_VIEW, index, frame.resolution_frame.z);
+  vec3 e = world_cache_query(g.position_depth.xyz, n, 1e30, false, uint(WORLD_CACHE_LIFETIME),
+                             frame.resolution_frame.z, index, 1u, rng);
   wc_view[index] = vec4(e, 1.0);
 }

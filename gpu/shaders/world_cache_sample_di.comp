@@ -4,7 +4,8 @@
 // shadow ray on the winner. Candidates are drawn as the light tiles draw theirs
 // (uniform light, triangle, point) with the tiles' radiance encoding. Also
 // snapshots the cell's life and root frame before any query of this frame
-// changes them (the cache-to-cache queries pass them on).
+// changes them (the cache-to-cache queries pass them on). new radiance's w
+// is 1 for a cell 0.19's soft cap leaves out of this frame's update.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #define SCENE_BINDINGS_NO_INTEGRATOR
@@ -22,6 +23,18 @@ void main() {
   if (i >= wc_counters.active_args.w) return;
   uint cell = wc_active[i];
   wc_active_state[i] = uvec2(wc_life[cell], wc_root_frame[cell]);
+#if WORLD_CACHE_UPDATE_SOFT_CAP != 0
+  // Solari 0.19's soft cap: over it, a cell sits this frame's update out with
+  // probability 1 − cap / active. Drawn here once per cell and frame and
+  // marked in w, which the GI sample and the blend read.
+  uint cap_rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_WORLD_CACHE_SOFT_CAP, wc_checksums[cell],
+                          frame.resolution_frame.z);
+  if (world_cache_update_skipped(uint(WORLD_CACHE_UPDATE_SOFT_CAP), wc_counters.active_args.w,
+                                 rng_next_float(cap_rng))) {
+    wc_new_radiance[i] = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+#endif
   vec3 p = wc_geometry[cell].position.xyz;
   vec3 n = wc_geometry[cell].normal.xyz;
   vec3 irradiance = vec3(0.0);

@@ -28,6 +28,7 @@ layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= wc_counters.active_args.w) return;
+  if (wc_new_radiance[i].w != 0.0) return;  // left out by the soft cap (world_cache_sample_di)
   uint cell = wc_active[i];
   uvec2 state = wc_active_state[i];  // (life, root frame) before this frame's queries
   vec3 p = wc_geometry[cell].position.xyz;
@@ -47,6 +48,7 @@ void main() {
     q.root_frame = state.y;
     q.id = cell;
     q.list = 0u;
+    q.first_bounce = 0u;
     vec3 ns = dot(s.shading_normal, hit_normal) < 0.0 ? -s.shading_normal : s.shading_normal;
     irradiance = PI * secondary_hit_radiance(hit, s, hit_normal, ns, dir, q, rng);
 #else
@@ -54,7 +56,7 @@ void main() {
     // end_path_radiance), so the diffuse cache keeps its bits and baselines.
     GpuMaterial m = scene_material(s.material);
     vec3 diffuse = m.base_color_metallic.rgb * (1.0 - m.base_color_metallic.a);
-    irradiance = diffuse * world_cache_query(hit_position, hit_normal, life, state.y, cell, 0u);
+    irradiance = diffuse * world_cache_query(hit_position, hit_normal, hit.t, false, life, state.y, cell, 0u, rng);
 #endif
   }
   wc_new_radiance[i] += vec4(irradiance, 0.0);

@@ -1,6 +1,6 @@
 // End-of-frame statistics for the checks (DESIGN §6; integer atomics, so the
 // figures are the same at any thread count): live and sampled cells, the
-// fixed-point radiance sum, and — with root-frame instrumentation — cells
+// fixed-point radiance sum, the cells this frame's update blended, and — with root-frame instrumentation — cells
 // older than lifetime + 1 frames since their last pixel-rooted refresh.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -15,6 +15,9 @@ layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 void main() {
   uint cell = gl_GlobalInvocationID.x;
   if (cell >= uint(WORLD_CACHE_CELLS)) return;
+  // The same invocation also reads active-list entry `cell`: w = 1 marks one
+  // the soft cap left out (world_cache_sample_di).
+  if (cell < wc_counters.active_args.w && wc_new_radiance[cell].w == 0.0) atomicAdd(wc_stats.updated_cells, 1u);
   uint life = wc_life[cell];
   if (life == 0u) {
     if (wc_checksums[cell] != WORLD_CACHE_EMPTY_CELL) atomicAdd(wc_stats.dead_not_empty, 1u);
