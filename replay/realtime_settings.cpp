@@ -28,6 +28,8 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.mis_visibility = p.flag("restir_di.mis_visibility");
   s.target_base_color = p.text("restir_di.target") == "base_over_pi";
   s.temporal_permutation = p.flag("restir_di.temporal_permutation");
+  s.temporal_fallback = p.text("restir_di.temporal_fallback") == "point";
+  s.offscreen_own_pixel = p.text("restir_di.offscreen_reprojection") == "own_pixel";
   s.tile_per_workgroup = p.text("restir_di.tile_choice") == "workgroup";
   s.visibility_final = p.text("restir_di.visibility") == "final";
   s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
@@ -105,6 +107,8 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
                                              {"front_any_channel", G::EmissiveTest::front_any_channel}});
   s.visibility_final = p.text("restir_gi.visibility") == "final";
   s.shading_diffuse = p.text("restir_gi.diffuse_shading") == "diffuse";
+  s.skip_smooth_metals = p.text("restir_gi.smooth_metals") == "skip";
+  s.offscreen_own_pixel = p.text("restir_di.offscreen_reprojection") == "own_pixel";
   s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
   s.consistent_mis = p.text("restir_gi.mis_weights") == "consistent";
   s.hit_radiance = choice<G::HitRadiance>(p, "restir_gi.hit_radiance",

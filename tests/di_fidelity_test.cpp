@@ -6,7 +6,8 @@
 //   restir_di.target               a pure metal receives DI only under base_over_pi;
 //   restir_di.tile_choice          one frame-constant tile per 8×8 block (Bevy's hash);
 //   restir_di.temporal_permutation temporal reuse reads the permuted pixel's
-//                                  history, the reprojected pixel's where that fails;
+//                                  history, the reprojected pixel's where that fails
+//                                  (restir_di.temporal_fallback: not in 0.19);
 //   restir_di.mis_visibility       removes 0.18's DI darkening with the initial ray kept
 //                                  (and its defensive weights sum to one);
 //   restir_di.initial_samples      8 in 0.18, 32 in 0.17;
@@ -268,8 +269,8 @@ TEST(DiFidelity, PermutedTemporalReuseReadsThePermutedPixelsHistoryAndFallsBackT
                          fallback_with_usable_permuted);
     }
   };
-  auto origins = [&](const std::string& value) {
-    const fs::path run = run_captured(dir, scenario, "0,1", "--set restir_di.temporal_permutation=" + value, value);
+  auto origins = [&](const std::string& sets, const std::string& tag) {
+    const fs::path run = run_captured(dir, scenario, "0,1", sets, tag);
     const auto index = tile_index(load<std::uint32_t>(run, 1, "di.light_tile_samples"), samples_per_tile(run, 1));
     const auto mid1 = load<std::uint32_t>(run, 1, "di.mid_reservoirs");
     const auto stored0 = load<std::uint32_t>(run, 0, "di.stored_reservoirs");
@@ -306,17 +307,25 @@ TEST(DiFidelity, PermutedTemporalReuseReadsThePermutedPixelsHistoryAndFallsBackT
     return o;
   };
 
-  const Origins point = origins("false");
+  const Origins point = origins("--set restir_di.temporal_permutation=false", "point");
   EXPECT_GT(point.history, std::size_t(kW) * kH / 4);
   EXPECT_EQ(point.from_permuted, 0u) << point.why();
   EXPECT_GT(point.from_point, point.history / 2);
 
-  const Origins permuted = origins("true");
+  const Origins permuted = origins("--set restir_di.temporal_permutation=true", "permuted");
   EXPECT_GT(permuted.history, std::size_t(kW) * kH / 4);
   EXPECT_GT(permuted.from_permuted, 2 * permuted.from_point) << permuted.why();
   // The fallback happens (object edges, the wrapped border) and only there.
   EXPECT_GT(permuted.from_point, 0u) << permuted.why();
   EXPECT_LE(permuted.fallback_with_usable_permuted, permuted.from_point / 20 + 1) << permuted.why();
+
+  // Solari 0.19 drops the fallback (v0.19.0 realtime/restir_di.wgsl:151-152):
+  // history comes from the permuted pixel, the same pixels as with it, or
+  // not at all.
+  const Origins no_fallback =
+      origins("--set restir_di.temporal_permutation=true --set restir_di.temporal_fallback=none", "no_fallback");
+  EXPECT_EQ(no_fallback.from_permuted, permuted.from_permuted) << no_fallback.why();
+  EXPECT_EQ(no_fallback.from_point, 0u) << no_fallback.why();
 }
 
 TEST(DiFidelity, DefensiveVisibilityMisGivesTheCanonicalSampleTheShareTheNeighbourCannotSee) {

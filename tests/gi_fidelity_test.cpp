@@ -99,6 +99,44 @@ TEST(GiFidelity, SeventeenShadesMetalsWithDiffuseGi) {
   EXPECT_GT(signal_mean(old, "gi", 4), signal_mean(now, "gi", 4) * 1.02);
 }
 
+// Solari 0.19 runs no ReSTIR GI on smooth metals (metallic > 0.9999, alpha
+// ≤ 0.4: v0.19.0 realtime/restir_gi.wgsl:33-36,59-62): the mirror's pixels
+// merge nothing, and even under 0.17's base/π shading (which lights a metal
+// with diffuse GI) they get no GI.
+TEST(GiFidelity, NineteenLeavesSmoothMetalsOutOfGi) {
+  const std::string lit = "--set restir_gi.diffuse_shading=base_over_pi ";
+  const GiRun run = run_gi(kMirror, lit + "--set restir_gi.smooth_metals=run", "metals_run");
+  const GiRun skip = run_gi(kMirror, lit + "--set restir_gi.smooth_metals=skip", "metals_skip");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_EQ(skip.exit_code, 0) << skip.output;
+  EXPECT_LT(total_merges(skip), total_merges(run));
+  const double r = signal_mean(run, "gi", 4), k = signal_mean(skip, "gi", 4);
+  EXPECT_LT(k, r * 0.98) << "run " << r << ", skip " << k;
+}
+
+// Solari 0.19 starts temporal reuse of a pixel whose surface was off screen
+// last frame from the pixel itself (v0.19.0 realtime/restir_gi.wgsl:134-136,
+// restir_di.wgsl:147-149); 0.17 and 0.18 take no history there. A camera
+// panning across the box brings a strip in at the edge every frame: under
+// own_pixel those pixels find their own last-frame surface similar (the
+// same wall) and merge.
+TEST(GiFidelity, OffScreenPixelsStartFromThemselvesUnderNineteen) {
+  const nlohmann::json pan = {
+      {"events",
+       {{{"type", "camera_sweep"},
+         {"frames", {1, 11}},
+         {"from", {{"position", {0.12, 0.273, -0.8}}, {"target", {0.12, 0.273, 0.28}}}},
+         {"to", {{"position", {0.44, 0.273, -0.8}}, {"target", {0.44, 0.273, 0.28}}}}}}}};
+  const GiRun none =
+      run_gi(kCornell, "--set restir_di.offscreen_reprojection=none", "offscreen_none", 12, 64, false, pan);
+  const GiRun own =
+      run_gi(kCornell, "--set restir_di.offscreen_reprojection=own_pixel", "offscreen_own", 12, 64, false, pan);
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  ASSERT_EQ(own.exit_code, 0) << own.output;
+  EXPECT_GT(total_merges(own), total_merges(none));
+  EXPECT_NE(own.summary["final_image_hash"], none.summary["final_image_hash"]);
+}
+
 // Temporal reuse: when the permuted pixel is unusable, 0.18 falls back to
 // the unpermuted one and 0.17 tries other permutations; with no fallback
 // fewer temporal neighbours are offered for a merge.

@@ -23,6 +23,8 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_MIS_VISIBILITY", mis_visibility ? "1" : "0"},
           {"DI_TARGET_BASE_COLOR", target_base_color ? "1" : "0"},
           {"DI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
+          {"DI_TEMPORAL_FALLBACK", temporal_fallback ? "1" : "0"},
+          {"DI_OFFSCREEN_OWN_PIXEL", offscreen_own_pixel ? "1" : "0"},
           {"DI_TILE_PER_WORKGROUP", tile_per_workgroup ? "1" : "0"},
           {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"},

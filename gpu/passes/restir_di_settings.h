@@ -34,6 +34,14 @@ struct DiSettings {
   // permuted within 4×4 blocks, falling back to point reprojection when the
   // permuted pixel gives no valid reservoir; false: point reprojection only.
   bool temporal_permutation = true;
+  // restir_di.temporal_fallback "point" (0.18): with permutation, the
+  // point-reprojected pixel when the permuted one fails; "none" (0.19): no
+  // second try.
+  bool temporal_fallback = true;
+  // restir_di.offscreen_reprojection "own_pixel" (0.19, DI and GI): a pixel
+  // whose surface was off screen last frame starts temporal reuse from
+  // itself; "none" (0.17, 0.18): it takes no history.
+  bool offscreen_own_pixel = false;
   // true (restir_di.tile_choice = workgroup, Solari): one light tile per 8×8
   // workgroup, the same every frame; false: a random tile per pixel and frame.
   bool tile_per_workgroup = true;

@@ -28,6 +28,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_EMISSIVE_TEST", std::to_string(static_cast<int>(emissive_test))},
           {"GI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"GI_SHADING_DIFFUSE", shading_diffuse ? "1" : "0"},
+          {"GI_SKIP_SMOOTH_METALS", skip_smooth_metals ? "1" : "0"},
+          {"GI_OFFSCREEN_OWN_PIXEL", offscreen_own_pixel ? "1" : "0"},
           {"GI_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
           {"GI_CONSISTENT_MIS", consistent_mis ? "1" : "0"},
           {"GI_HIT_RADIANCE", std::to_string(static_cast<int>(hit_radiance))},

@@ -55,6 +55,16 @@ struct GiSettings {
   // restir_gi.diffuse_shading "diffuse": GI shaded with base·(1 − metallic)/π
   // (Solari 0.18); false: base/π whatever the metallic (Solari 0.17).
   bool shading_diffuse = true;
+  // restir_gi.smooth_metals "skip" (Solari 0.19): no ReSTIR GI at a pixel
+  // with metallic > 0.9999 and alpha ≤ specular.reuse_gi_roughness, whose
+  // light specular GI carries alone; its reservoirs stay empty, so neither
+  // it nor its neighbours reuse a sample there, and it makes no cache query.
+  // false ("run", 0.17 and 0.18): GI runs everywhere.
+  bool skip_smooth_metals = false;
+  // restir_di.offscreen_reprojection "own_pixel" (0.19): GI's temporal reuse
+  // of a pixel off screen last frame starts from the pixel itself; "none":
+  // no history (DiSettings::offscreen_own_pixel, the same key).
+  bool offscreen_own_pixel = false;
   // restir_gi.mis_weights "consistent": the canonical sample's MIS weight at
   // the other pixel includes its visibility from there (spatial: one more
   // ray) and is zero where the jacobian rejection would refuse that shift.

@@ -6,7 +6,9 @@
 // temporal reuse of last frame's stored reservoir through the motion vector
 // (DI_TEMPORAL_PERMUTATION 1: at the reprojected pixel permuted within 4×4
 // blocks, and where that gives no valid reservoir at the reprojected pixel
-// itself, Solari 0.18; 0: the reprojected pixel only, 0.17), rejected when
+// itself, Solari 0.18, unless DI_TEMPORAL_FALLBACK 0, 0.19; 0: the
+// reprojected pixel only, 0.17; off screen, DI_OFFSCREEN_OWN_PIXEL 1 starts
+// from the pixel itself, 0.19, 0 takes no history), rejected when
 // the surfaces differ (pixel_dissimilar) or its light no longer exists,
 // confidence capped at DI_CONFIDENCE_CAP, visibility reused (no ray; with
 // DI_MIS_VISIBILITY two rays for the cross MIS targets). Writes the merged
@@ -84,19 +86,19 @@ void main() {
   }
 
   // Temporal reuse.
-  vec4 motion = d.g.motion_reflectance;
-  if (push.history_valid != 0u && motion.z > 0.0) {
-    vec2 previous = vec2(pixel) + vec2(0.5) + motion.xy;
-    ivec2 q = ivec2(floor(previous));
-    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
+  ivec2 q;
+  if (push.history_valid != 0u) {
+    if (temporal_source_pixel(pixel, d.g.motion_reflectance, resolution, DI_OFFSCREEN_OWN_PIXEL != 0, q)) {
       DiSurface s;
       DiReservoir temporal;
 #if DI_TEMPORAL_PERMUTATION != 0
       uvec2 permuted = di_permute_pixel(uvec2(q), di_permutation_random(frame.resolution_frame.z), resolution);
       bool usable = di_temporal_candidate(d, chain, permuted, s, temporal);
+#if DI_TEMPORAL_FALLBACK != 0
       // Where the permuted pixel gives no valid reservoir (object edges), the
-      // reprojected pixel itself.
+      // reprojected pixel itself (0.18; 0.19 has no fallback).
       if (!usable) usable = di_temporal_candidate(d, chain, uvec2(q), s, temporal);
+#endif
 #else
       bool usable = di_temporal_candidate(d, chain, uvec2(q), s, temporal);
 #endif

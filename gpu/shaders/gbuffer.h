@@ -31,6 +31,22 @@ GI_FN bool camera_project(GpuCamera c, vec3 p, uvec2 resolution, OUT(vec2) pixel
   return true;
 }
 
+// The last-frame pixel temporal reuse starts from: the motion vector's
+// pixel, when the surface was in front of last frame's camera and on its
+// screen. Otherwise there is none (own_pixel false, Solari 0.17 and 0.18:
+// v0.18.0:realtime/restir_di.wgsl:161-163) or, with own_pixel (Solari 0.19:
+// v0.19.0:realtime/restir_di.wgsl:147-149, restir_gi.wgsl:134-136), the pixel
+// itself, which the surface test then accepts or refuses.
+GI_FN bool temporal_source_pixel(uvec2 pixel, vec4 motion, uvec2 resolution, bool own_pixel, OUT(ivec2) q) {
+  q = ivec2(floor(vec2(pixel) + vec2(0.5f) + vec2(motion.x, motion.y)));
+  bool on_screen = motion.z > 0.0f && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)));
+  if (!on_screen && own_pixel) {
+    q = ivec2(pixel);
+    return true;
+  }
+  return on_screen;
+}
+
 GI_SHADER_END
 
 #endif

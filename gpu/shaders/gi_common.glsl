@@ -10,7 +10,7 @@
 // GI_TEMPORAL_PERMUTATION (1: permutation sampling), GI_TEMPORAL_FALLBACK (0
 // none, 1 point reprojection, 2 up to 4 permutations), GI_TARGET_BRDF,
 // GI_EMPTY_NO_CONFIDENCE, GI_EMISSIVE_TEST, GI_VISIBILITY_FINAL,
-// GI_SHADING_DIFFUSE, GI_SECONDARY_ALBEDO_BASE (GiSettings says what each
+// GI_SHADING_DIFFUSE, GI_SKIP_SMOOTH_METALS, GI_SECONDARY_ALBEDO_BASE (GiSettings says what each
 // selects), GI_HIT_RADIANCE (0: one
 // NEE light sample, 1: one cosine-sampled path, 2: the world cache, with the
 // cache's WORLD_CACHE_* defines), GI_SECONDARY_HITS_FULL (brdf.secondary_hits), GI_RAY_TMAX,
@@ -72,6 +72,18 @@ GiPixel gi_pixel(uvec2 pixel) {
   d.target = gi_target_colour(d.base_color);
   d.motion = vec4(g.motion_reflectance.xyz, 0.0);
   return d;
+}
+
+// Whether ReSTIR GI leaves this pixel out (GI_SKIP_SMOOTH_METALS, Solari
+// 0.19: a smooth metal, v0.19.0:realtime/restir_gi.wgsl:33-36,59-62, with
+// Bevy's alpha = perceptual roughness², unclamped, against 0.4): its
+// reservoirs are empty and it shades no GI.
+bool gi_skips_pixel(GiPixel d) {
+#if GI_SKIP_SMOOTH_METALS != 0
+  return d.metallic > 0.9999 && d.perceptual_roughness * d.perceptual_roughness <= float(SPECULAR_REUSE_ROUGHNESS);
+#else
+  return false;
+#endif
 }
 
 bool gi_dissimilar(GiPixel d, vec3 other_position, vec3 other_normal) {

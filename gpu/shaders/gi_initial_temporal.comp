@@ -62,7 +62,7 @@ void main() {
   uint pixels = resolution.x * resolution.y;
   uint slot = chain * pixels + index;
   GiPixel d = gi_pixel(pixel);
-  if (!d.hit) {
+  if (!d.hit || gi_skips_pixel(d)) {
     mid_reservoirs[slot] = empty_gi_reservoir(0.0);
     return;
   }
@@ -89,9 +89,9 @@ void main() {
   }
 
   // Temporal reuse.
-  if (push.history_valid != 0u && d.motion.z > 0.0) {
-    ivec2 q = ivec2(floor(vec2(pixel) + vec2(0.5) + d.motion.xy));
-    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(resolution)))) {
+  ivec2 q;
+  if (push.history_valid != 0u) {
+    if (temporal_source_pixel(pixel, d.motion, resolution, GI_OFFSCREEN_OWN_PIXEL != 0, q)) {
       GiReservoir temporal;
       GiSurface s;
 #if GI_TEMPORAL_PERMUTATION != 0

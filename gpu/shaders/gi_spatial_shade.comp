@@ -35,7 +35,7 @@ void main() {
   GiPixel d = gi_pixel(pixel);
   vec3 color = vec3(0.0);
 
-  if (!d.hit) {
+  if (!d.hit || gi_skips_pixel(d)) {
     stored_reservoirs[slot] = empty_gi_reservoir(0.0);
 #if GI_TEMPORAL_HISTORY != 0
     history_reservoirs[slot] = empty_gi_reservoir(0.0);
