@@ -178,7 +178,10 @@ TEST(GiFidelity, WeightingSwitchesChangeTheImageNotTheMean) {
   const std::vector<Case> cases = {
       {kCornell, "gi", path + "--set restir_gi.target=base_over_pi", path + "--set restir_gi.target=radiance_cos",
        "target"},
-      {kMirror, "specular", "--set specular.mis=power", "--set specular.mis=balance", "specular_mis"}};
+      {kMirror, "specular", "--set specular.mis=power", "--set specular.mis=balance", "specular_mis"},
+      // 0.19's roulette after each glossy bounce (v0.19.0 specular_gi.wgsl:162-165).
+      {kMirror, "specular", "--set specular.russian_roulette=true", "--set specular.russian_roulette=false",
+       "roulette"}};
   for (const Case& c : cases) {
     const GiRun bevy = run_gi(c.scene, c.bevy, c.tag + "_bevy", 16);
     const GiRun other = run_gi(c.scene, c.other, c.tag + "_other", 16);
@@ -202,6 +205,23 @@ TEST(GiFidelity, PathSpreadEndsGlossyPathsLaterThanTheFirstRoughHit) {
   ASSERT_EQ(spread.exit_code, 0) << spread.output;
   ASSERT_EQ(rough.exit_code, 0) << rough.output;
   EXPECT_GT(signal_mean(spread, "specular", 4), signal_mean(rough, "specular", 4) * 1.05);
+}
+
+// 0.19 ends a glossy path in the cache only once the path's summed alpha
+// exceeds 0.4 and the ray is longer than √3 cells, or at its third vertex
+// (v0.19.0 realtime/specular_gi.wgsl:131-139): from the mirror scene's smooth
+// surfaces the first hit never ends it, so paths run on to the third vertex
+// and end in the cache there, where 0.18's spread rule ends them early and its
+// last vertex stops after NEE.
+TEST(GiFidelity, NineteenEndsGlossyPathsByRayLengthAndSummedRoughness) {
+  const GiRun spread = run_gi(kMirror, "--set specular.path_end=path_spread", "path_end_spread19", 16);
+  const GiRun long_ray = run_gi(kMirror, "--set specular.path_end=long_ray_rough_path", "path_end_long_ray", 16);
+  ASSERT_EQ(spread.exit_code, 0) << spread.output;
+  ASSERT_EQ(long_ray.exit_code, 0) << long_ray.output;
+  EXPECT_NE(spread.summary["final_image_hash"], long_ray.summary["final_image_hash"]);
+  const double a = signal_mean(spread, "specular", 4), b = signal_mean(long_ray, "specular", 4);
+  std::cout << "specular mean, path spread " << a << ", long ray and rough path " << b << "\n";
+  EXPECT_GT(b, 0.0);
 }
 
 // Solari 0.17/0.18 take a GI hit for an emitter only when every channel of

@@ -51,7 +51,7 @@ struct UniformCacheBridge : EmbreeBridge {
   float cell_size = 1.0f;
 #include "core/shared/secondary_hit.h"
   vec3 hit_cache_irradiance(vec3, vec3, float, CacheQuery, uint&) { return irradiance; }
-  float hit_cache_cell_size(vec3) { return cell_size; }
+  float hit_cache_cell_size(vec3, uint) { return cell_size; }
 };
 
 }  // namespace gi::shader
@@ -281,6 +281,33 @@ TEST(SecondaryHit, PathSpreadEndsAtItsThreshold) {
   EXPECT_GT(glm::length(goes_on - cached), 1e-3f * glm::length(cached)) << "the path ended below the threshold";
   // A negative a0 keeps the roughness rule: this glossy hit (alpha 0.09) is followed.
   EXPECT_GT(glm::length(radiance(-1.0f) - cached), 1e-3f * glm::length(cached));
+}
+
+// Solari 0.19's end (v0.19.0 realtime/specular_gi.wgsl:131-139): at a hit
+// reached by a ray longer than √3 cells, once the path's summed alpha is
+// above HIT_GLOSSY_ROUGHNESS (0.5 in these tests, 0.4 in Solari); either condition short of its
+// threshold and the path goes on.
+TEST(SecondaryHit, LongRayRoughPathEndsOnlyWhenBothHold) {
+  const Box box(metal(0.3f));
+  const EmbreeScene embree(box.geometry, box.flat, box.visible);
+  shader::UniformCacheBridge b{EmbreeBridge::over(box.geometry, box.flat, embree.scene())};
+  b.irradiance = glm::vec3(2.0f, 3.0f, 5.0f);
+  const std::vector<PrimaryRay> rays = rays_at(b, box.scene, box.block, 1);
+  ASSERT_EQ(rays.size(), 1u);
+  const PrimaryRay& r = rays[0];
+  const glm::vec3 cached = metal(0.3f).base_color * shader::INV_PI * b.irradiance;
+  auto radiance = [&](float cell_size, float path_roughness) {
+    b.cell_size = cell_size;
+    std::uint32_t rng = seed(0u, 4u, 0u);
+    auto end = b.glossy_path_end(-1.0f, 0.0f, 0.0f);
+    end.path_roughness = path_roughness;
+    return b.glossy_path_radiance(r.hit, r.dir, shader::UniformCacheBridge::CacheQuery{}, end, rng);
+  };
+  auto ended = [&](const glm::vec3& v) { return glm::length(v - cached) <= 1e-5f * glm::length(cached); };
+  const float long_cell = r.hit.t / std::sqrt(3.0f) * 0.99f, short_cell = r.hit.t / std::sqrt(3.0f) * 1.01f;
+  EXPECT_TRUE(ended(radiance(long_cell, 0.51f)));
+  EXPECT_FALSE(ended(radiance(long_cell, 0.49f))) << "summed alpha below the threshold must not end the path";
+  EXPECT_FALSE(ended(radiance(short_cell, 0.51f))) << "a ray shorter than sqrt(3) cells must not end the path";
 }
 
 }  // namespace

@@ -18,13 +18,17 @@
 //   HIT_GLOSSY_BOUNCES    vertices a glossy path visits (specular.max_bounces)
 //   HIT_POWER_MIS         specular.mis: 1 "power" (Solari 0.18's glossy path),
 //                         0 "balance" heuristic between NEE and the bounce
+//   HIT_RUSSIAN_ROULETTE  specular.russian_roulette: 1 ends a glossy path
+//                         after a bounce with probability 1 − luminance of
+//                         its throughput (Solari 0.19), 0 never
 //   HIT_ALBEDO_BASE       brdf.secondary_albedo: 1 "base_color" (Solari: the
 //                         full base colour, metals too: v0.18.0
 //                         realtime/restir_gi.wgsl:120, world_cache_update.wgsl:43,
 //                         specular_gi.wgsl:116), 0 "diffuse" base·(1 − metallic)
 // and, for HIT_RADIANCE 2, the cache it ends in:
 //   vec3  hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, INOUT(uint) rng);
-//   float hit_cache_cell_size(vec3 position);   // the cell's edge there
+//   float hit_cache_cell_size(vec3 position, uint rng);   // the cell's edge there
+//                                              // (rng: a copy, for 0.19's stochastic LOD)
 // No include guard on purpose (C++ includes it into each bridge struct).
 
 // Where a path ending in the world cache queries it: the life and root frame
@@ -41,7 +45,10 @@ struct CacheQuery {
 
 #if HIT_RADIANCE == 2 && !defined(__cplusplus)
 vec3 hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, inout uint rng);
-float hit_cache_cell_size(vec3 position);
+float hit_cache_cell_size(vec3 position, uint rng);
+#endif
+#ifndef HIT_RUSSIAN_ROULETTE
+#define HIT_RUSSIAN_ROULETTE 0
 #endif
 
 GI_FN uint hit_mis_heuristic() { return HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE; }
@@ -106,8 +113,15 @@ GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray
 //   hit, satisfies spread² > a0 · the cache's cell size there, a0 =
 //   0.03 · |camera − primary|² / (4π cos θ) (specular_gi.comp). A mirror
 //   bounce (pdf a delta) adds no spread. Needs the cache (HIT_RADIANCE 2).
+// - path_roughness ≥ 0 (specular.path_end "long_ray_rough_path", Solari
+//   0.19: v0.19.0 realtime/specular_gi.wgsl:131-139): at the third vertex,
+//   or where the ray that reached the hit is longer than √3 cells and the
+//   path's summed alpha (the primary's plus each vertex's passed) exceeds
+//   HIT_GLOSSY_ROUGHNESS. The cell size is drawn from a copy of the stream,
+//   as Bevy's. Takes precedence over spread_a0.
 struct GlossyPathEnd {
   float spread_a0;
+  float path_roughness;
   float first_pdf;  // solid-angle pdf of the primary direction (≥ 1e30: a mirror)
   // 1: count the first hit's emission with weight 1 (DI handed this surface's
   // specular lobe over, specular.di_handover_alpha); 0: DI owns it.
@@ -117,6 +131,7 @@ struct GlossyPathEnd {
 GI_FN GlossyPathEnd glossy_path_end(float spread_a0, float first_pdf, float first_emission) {
   GlossyPathEnd e;
   e.spread_a0 = spread_a0;
+  e.path_roughness = -1.0f;
   e.first_pdf = first_pdf;
   e.first_emission = first_emission;
   return e;
@@ -157,9 +172,12 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     // holds that vertex's direct light too: no NEE there.
     bool end_here = brdf.alpha > float(HIT_GLOSSY_ROUGHNESS) || (HIT_SURFACES_FULL != 0 && last);
 #if HIT_RADIANCE == 2
-    if (path_end.spread_a0 >= 0.0f) {
+    if (path_end.path_roughness >= 0.0f) {
+      bool long_ray = hit.t > sqrt(3.0f) * hit_cache_cell_size(s.position, rng);
+      end_here = last || (long_ray && path_end.path_roughness > float(HIT_GLOSSY_ROUGHNESS));
+    } else if (path_end.spread_a0 >= 0.0f) {
       spread += sqrt(hit.t * hit.t / (spread_pdf * max(dot(hns, v), 1e-6f)));
-      end_here = spread * spread > path_end.spread_a0 * hit_cache_cell_size(s.position);
+      end_here = spread * spread > path_end.spread_a0 * hit_cache_cell_size(s.position, rng);
     }
 #endif
     if (end_here) {
@@ -178,6 +196,15 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     previous_pdf = mirror ? 0.0f : pdf;
 #if HIT_RADIANCE == 2
     spread_pdf = mirror ? 1e30f : pdf;
+    if (path_end.path_roughness >= 0.0f) path_end.path_roughness += brdf.alpha;
+#endif
+#if HIT_RUSSIAN_ROULETTE != 0
+    // Solari 0.19's roulette (v0.19.0 realtime/specular_gi.wgsl:162-165),
+    // with its quirk: a throughput of luminance above 1 is divided by it.
+    // (p = 0 ends the path here, where Bevy's rand_f = 0 would divide by 0.)
+    float p_continue = luminance(throughput);
+    if (p_continue <= 0.0f || rng_next_float(rng) > p_continue) break;
+    throughput /= p_continue;
 #endif
     dir = l;
     q.first_bounce = 0u;  // a later vertex is not GI's first bounce

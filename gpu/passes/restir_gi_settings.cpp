@@ -38,6 +38,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_REUSE_ROUGHNESS", f(specular_reuse_roughness)},
           {"SPECULAR_POWER_MIS", specular_power_mis ? "1" : "0"},
           {"SPECULAR_PATH_SPREAD", specular_path_spread ? "1" : "0"},
+          {"SPECULAR_PATH_LONG_RAY", specular_path_long_ray ? "1" : "0"},
+          {"SPECULAR_RUSSIAN_ROULETTE", specular_russian_roulette ? "1" : "0"},
           {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};

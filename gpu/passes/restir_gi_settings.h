@@ -89,6 +89,12 @@ struct GiSettings {
   // GlossyPathEnd); false ("roughness"): at the first hit rougher than
   // specular_reuse_roughness.
   bool specular_path_spread = true;
+  // specular.path_end "long_ray_rough_path" (Solari 0.19): the third vertex,
+  // or a ray longer than √3 cells once the path's summed alpha exceeds
+  // specular.reuse_gi_roughness (secondary_hit.h, GlossyPathEnd).
+  bool specular_path_long_ray = false;
+  // specular.russian_roulette (Solari 0.19): after each glossy bounce.
+  bool specular_russian_roulette = false;
   // specular.di_handover_alpha: at a primary alpha ≤ this the glossy path
   // counts its first hit's emission (weight 1: DI left the lobe to it).
   // Negative: never (DI owns the first hit everywhere).

@@ -118,6 +118,7 @@ vec3 gi_target_colour(vec3 base_color) {
 #define HIT_GLOSSY_BOUNCES SPECULAR_MAX_BOUNCES
 #define HIT_ALBEDO_BASE GI_SECONDARY_ALBEDO_BASE
 #define HIT_POWER_MIS SPECULAR_POWER_MIS
+#define HIT_RUSSIAN_ROULETTE SPECULAR_RUSSIAN_ROULETTE
 #include "gpu/shaders/hit_radiance.glsl"
 
 // A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,

@@ -13,8 +13,7 @@ vec3 hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, ino
   return world_cache_query(position, ng, ray_t, q.first_bounce != 0u, q.life, q.root_frame, q.id, q.list, rng);
 }
 
-float hit_cache_cell_size(vec3 position) {
-  return world_cache_cell_size(position, frame.camera.position.xyz, float(WORLD_CACHE_CELL_SIZE_BASE),
-                               float(WORLD_CACHE_LOD_SCALE));
+float hit_cache_cell_size(vec3 position, uint rng) {
+  return world_cache_query_cell_size(position, rng);
 }
 #endif

@@ -65,6 +65,9 @@ void main() {
                                ? 1e30
                                : ggx_bounded_vndf_pdf(from_world(d.view, d.ns), from_world(wi, d.ns), alpha);
 #endif
+#if SPECULAR_PATH_LONG_RAY != 0 && GI_HIT_RADIANCE == 2
+      path_end.path_roughness = alpha;
+#endif
       if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
         color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) *
                 trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), path_end, rng);
