@@ -52,6 +52,7 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.normal_key_scale = p.text("world_cache.normal_key") == "half_unit" ? 2.0f : 1.0f;
   s.first_bounce_leak_rule = p.flag("world_cache.first_bounce_leak_rule");
   s.update_soft_cap = static_cast<std::uint32_t>(p.integer("world_cache.update_soft_cap"));
+  s.update_workgroup_size = static_cast<std::uint32_t>(p.integer("world_cache.workgroup_size"));
   s.cache_to_cache_full = p.text("world_cache.cache_to_cache_life") == "full";
   s.adaptive_blend = p.text("world_cache.blend") == "adaptive";
   s.max_samples = static_cast<float>(p.number("world_cache.max_samples"));

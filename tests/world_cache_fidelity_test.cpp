@@ -295,5 +295,20 @@ TEST(WorldCacheFidelity019, SoftCapUpdatesAboutCapCellsAFrame) {
     EXPECT_EQ(f.at("world_cache").at("updated_cells"), f.at("world_cache").at("active_cells"));
 }
 
+// world_cache.workgroup_size (0.17's 1024, 64 since) sets the width of the
+// per-active-cell passes and nothing else: every cell and the image keep
+// their bits. A width the device cannot run is bad input.
+TEST(WorldCacheFidelity019, WorkgroupWidthChangesNoBit) {
+  const auto wide = run_cornell_gi("--set world_cache.workgroup_size=1024", "group_1024", 6);
+  const auto narrow = run_cornell_gi("--set world_cache.workgroup_size=64", "group_64", 6);
+  ASSERT_EQ(wide.exit_code, 0) << wide.output;
+  ASSERT_EQ(narrow.exit_code, 0) << narrow.output;
+  EXPECT_EQ(wide.summary.at("world_cache_hashes"), narrow.summary.at("world_cache_hashes"));
+  EXPECT_EQ(wide.summary.at("final_image_hash"), narrow.summary.at("final_image_hash"));
+  const auto bad = run_cornell_gi("--set world_cache.workgroup_size=0", "group_0", 2);
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("world_cache.workgroup_size"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 }  // namespace gi

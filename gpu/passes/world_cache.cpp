@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "gpu/device.h"
 #include "gpu/shaders/bindings.h"
 #include "gpu/shaders/world_cache_bindings.h"
 
@@ -53,11 +54,17 @@ void indirect_barrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
-WorldCacheSettings checked(const WorldCacheSettings& s) {
+WorldCacheSettings checked(const Device& device, const WorldCacheSettings& s) {
   if (!std::has_single_bit(s.cells) || s.cells < WORLD_CACHE_SCAN_BLOCK)
     throw InputError("world_cache.cells", "",
                      fmt::format("a power of two of at least {}, got {}", WORLD_CACHE_SCAN_BLOCK, s.cells));
   if (s.lifetime == 0) throw InputError("world_cache.lifetime", "", "a lifetime of at least 1 frame");
+  const std::uint32_t widest =
+      std::min(device.limits().maxComputeWorkGroupSize[0], device.limits().maxComputeWorkGroupInvocations);
+  if (s.update_workgroup_size == 0 || s.update_workgroup_size > widest)
+    throw InputError("world_cache.workgroup_size", "",
+                     fmt::format("a workgroup width from 1 to {} (this device's limit), got {}", widest,
+                                 s.update_workgroup_size));
   return s;
 }
 
@@ -81,6 +88,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_NORMAL_KEY_SCALE", f(normal_key_scale)},
                                  {"WORLD_CACHE_LEAK_RULE", first_bounce_leak_rule ? "1" : "0"},
                                  {"WORLD_CACHE_UPDATE_SOFT_CAP", std::to_string(update_soft_cap)},
+                                 {"WORLD_CACHE_UPDATE_GROUP", u(update_workgroup_size)},
                                  {"WORLD_CACHE_C2C_FULL", cache_to_cache_full ? "1" : "0"},
                                  {"WORLD_CACHE_ADAPTIVE", adaptive_blend ? "1" : "0"},
                                  {"WORLD_CACHE_MAX_SAMPLES", f(max_samples)},
@@ -101,7 +109,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
 
 WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCacheSettings& settings,
                        std::uint32_t width, std::uint32_t height)
-    : settings_(checked(settings)),
+    : settings_(checked(device, settings)),
       width_(width),
       height_(height),
       // One record per query at most: a query pass has pixels or active cells of them.

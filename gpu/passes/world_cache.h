@@ -45,6 +45,10 @@ struct WorldCacheSettings {
   float normal_key_scale = 1.0f;
   bool first_bounce_leak_rule = false;
   std::uint32_t update_soft_cap = 0;
+  // world_cache.workgroup_size: the width of the per-active-cell passes'
+  // workgroups (sample_di, sample_gi, blend; 1024 in 0.17, 64 since). Cells
+  // are independent, so it changes speed, not results.
+  std::uint32_t update_workgroup_size = 64;
   bool cache_to_cache_full = false;     // true: 0.17's lifetime rule
   bool adaptive_blend = true;           // false: 0.17's fixed blend
   float max_samples = 32.0f;

@@ -33,6 +33,7 @@ void main() {
   }
   if (t == WORLD_CACHE_SCAN_THREADS - 1u) {
     uint total = partial[t];
-    wc_counters.active_args = uvec4((total + WORLD_CACHE_CELL_GROUP - 1u) / WORLD_CACHE_CELL_GROUP, 1u, 1u, total);
+    wc_counters.active_args =
+        uvec4((total + uint(WORLD_CACHE_UPDATE_GROUP) - 1u) / uint(WORLD_CACHE_UPDATE_GROUP), 1u, 1u, total);
   }
 }

@@ -16,7 +16,7 @@
 #include "core/shared/light_sampling.h"
 #include "gpu/shaders/world_cache_common.glsl"
 
-layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
+layout(local_size_x = WORLD_CACHE_UPDATE_GROUP) in;
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

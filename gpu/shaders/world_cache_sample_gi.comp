@@ -23,7 +23,7 @@
 #define HIT_POWER_MIS 0  // the cache's GI ray follows glossy hits only under brdf.secondary_hits full (harness)
 #include "gpu/shaders/hit_radiance.glsl"
 
-layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
+layout(local_size_x = WORLD_CACHE_UPDATE_GROUP) in;
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
