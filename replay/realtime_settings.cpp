@@ -49,6 +49,7 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.lod_scale = static_cast<float>(p.number("world_cache.lod_scale"));
   s.stochastic_lod = p.text("world_cache.lod_choice") == "stochastic";
   s.jitter = p.text("world_cache.query_jitter") == "tangent_plane";
+  s.jitter_lod_redrawn = p.text("world_cache.jitter_lod") == "redrawn";
   s.normal_key_scale = p.text("world_cache.normal_key") == "half_unit" ? 2.0f : 1.0f;
   s.first_bounce_leak_rule = p.flag("world_cache.first_bounce_leak_rule");
   s.update_soft_cap = static_cast<std::uint32_t>(p.integer("world_cache.update_soft_cap"));

@@ -12,14 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "core/profile.h"
-#include "core/scene_flatten.h"
-#include "core/scenes/cornell_box.h"
 #include "core/shared/world_cache.h"
-#include "gpu/device.h"
-#include "gpu/renderer.h"
-#include "gpu/shader_compiler.h"
 #include "replay/realtime_settings.h"
-#include "replay/run_scenario.h"
+#include "tests/cornell_cache_view.h"
 #include "tests/test_support.h"
 
 namespace gi {
@@ -100,33 +95,15 @@ struct Cells {
 
 template <class Change>
 Cells cornell_cells(Change change, std::uint32_t frames = 4) {
-  const std::uint32_t w = 48, h = 48;
-  const Scene scene = make_cornell_box();
-  const FlatGeometry geometry = flatten_geometry(scene);
-  const FlatInstances flat = flatten_instances(scene, geometry);
-  gpu::Device device(std::nullopt, test::test_backend());
-  gpu::ShaderCompiler compiler(cache_root());
-  gpu::RendererOptions options;
-  options.width = w;
-  options.height = h;
-  options.reference = false;
   gpu::WorldCacheSettings cache = world_cache_settings_from_profile(load_profile("solari-0.18"));
   cache.cells = 1u << 16;
-  cache.view = true;
   change(cache);
-  options.world_cache = cache;
-  gpu::Renderer renderer(device, compiler, geometry, options);
-  renderer.update_scene(flat, std::vector<bool>(scene.instances.size(), true));
-  const GpuCamera cam = make_gpu_camera(scene.camera, w, h);
-  for (std::uint32_t f = 0; f < frames; ++f) {
-    FrameConstants c{};
-    c.camera = c.previous_camera = cam;
-    c.resolution_frame = glm::uvec4(w, h, f, 7u);
-    c.counts = glm::uvec4(static_cast<std::uint32_t>(flat.lights.size()), flat.directional_light_count, 1u, f);
-    renderer.render_frame(c);
-  }
+  test::CornellCacheView view(48, 48, cache);
+  for (std::uint32_t f = 0; f < frames; ++f) view.render(f);
+  gpu::Renderer& renderer = view.renderer();
+  const GpuCamera cam = view.camera();
   Cells out;
-  out.settings = cache;
+  out.settings = renderer.world_cache().settings();
   out.eye = glm::vec3(cam.position);
   const auto sums = renderer.world_cache().checksums();
   const auto life = renderer.world_cache().life();

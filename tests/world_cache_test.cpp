@@ -17,6 +17,7 @@
 #include "replay/realtime_settings.h"
 #include "replay/run_scenario.h"
 #include "core/profile.h"
+#include "tests/cornell_cache_view.h"
 #include "tests/test_support.h"
 
 namespace gi {
@@ -100,32 +101,18 @@ struct CacheBias {
 // cells of `cell_size_base` metres (0.18: 0.25).
 CacheBias cornell_cache_bias(float cell_size_base) {
   const std::uint32_t w = 64, h = 64;
-  const Scene scene = make_cornell_box();
-  const FlatGeometry geometry = flatten_geometry(scene);
-  const FlatInstances flat = flatten_instances(scene, geometry);
-  gpu::Device device(std::nullopt, test::test_backend());
-  gpu::ShaderCompiler compiler(cache_root());
-  gpu::RendererOptions options;
-  options.width = w;
-  options.height = h;
-  options.reference = false;
   gpu::WorldCacheSettings cache = world_cache_settings_from_profile(load_profile("solari-0.18"));
   cache.cells = 1u << 16;
   cache.cell_size_base = cell_size_base;
-  cache.view = true;  // the cache view is what this test reads
-  options.world_cache = cache;
-  gpu::Renderer renderer(device, compiler, geometry, options);
-  renderer.update_scene(flat, std::vector<bool>(scene.instances.size(), true));
+  test::CornellCacheView view(w, h, cache);  // the cache view is what this test reads
+  gpu::Renderer& renderer = view.renderer();
+  const Scene& scene = view.scene();
   // 64 frames to converge (multi-bounce builds up one bounce a frame), then
   // the cache view averaged over 32 more to take the per-frame noise out.
   std::vector<glm::dvec3> sum(std::size_t(w) * h, glm::dvec3(0.0));
   const std::uint32_t warm = 64, averaged = 32;
   for (std::uint32_t f = 0; f < warm + averaged; ++f) {
-    FrameConstants c{};
-    c.camera = c.previous_camera = make_gpu_camera(scene.camera, w, h);
-    c.resolution_frame = glm::uvec4(w, h, f, 7u);
-    c.counts = glm::uvec4(static_cast<std::uint32_t>(flat.lights.size()), flat.directional_light_count, 1u, f);
-    renderer.render_frame(c);
+    view.render(f);
     if (f < warm) continue;
     const Image v = renderer.cache_view();
     for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += glm::dvec3(v.pixels[i]);
@@ -149,7 +136,8 @@ CacheBias cornell_cache_bias(float cell_size_base) {
     }
   IrradianceOptions io;
   io.samples = 512;
-  const std::vector<glm::vec3> ref = embree_irradiance(geometry, flat, instance_visibility(scene), points, io);
+  const std::vector<glm::vec3> ref =
+      embree_irradiance(view.geometry(), view.flat(), instance_visibility(scene), points, io);
   double lum_cache = 0.0, lum_ref = 0.0, abs_err = 0.0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double a = luminance(glm::vec3(cache_e[i])), b = luminance(ref[i]);

@@ -85,6 +85,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_LOD_SCALE", f(lod_scale)},
                                  {"WORLD_CACHE_STOCHASTIC_LOD", stochastic_lod ? "1" : "0"},
                                  {"WORLD_CACHE_JITTER", jitter ? "1" : "0"},
+                                 {"WORLD_CACHE_JITTER_LOD_REDRAWN", jitter_lod_redrawn ? "1" : "0"},
                                  {"WORLD_CACHE_NORMAL_KEY_SCALE", f(normal_key_scale)},
                                  {"WORLD_CACHE_LEAK_RULE", first_bounce_leak_rule ? "1" : "0"},
                                  {"WORLD_CACHE_UPDATE_SOFT_CAP", std::to_string(update_soft_cap)},

@@ -42,6 +42,11 @@ struct WorldCacheSettings {
   // a frame (0: none). Defaults are 0.18's.
   bool stochastic_lod = false;
   bool jitter = false;
+  // world_cache.jitter_lod "redrawn": the cell size is drawn again at the
+  // jittered point (v0.18.0 world_cache_query.wgsl:58, v0.19.0 :60); "kept"
+  // quantizes the moved point with the size of the unmoved one (#21649's
+  // jitter before #21953 fixed it: cells keyed at an LOD their point does not have).
+  bool jitter_lod_redrawn = true;
   float normal_key_scale = 1.0f;
   bool first_bounce_leak_rule = false;
   std::uint32_t update_soft_cap = 0;

@@ -11,6 +11,8 @@
 //   WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE, WORLD_CACHE_PENDING_CAPACITY,
 //   WORLD_CACHE_STOCHASTIC_LOD, WORLD_CACHE_JITTER, WORLD_CACHE_NORMAL_KEY_SCALE,
 //   WORLD_CACHE_LEAK_RULE, WORLD_CACHE_UPDATE_SOFT_CAP (0.19's query and update),
+//   WORLD_CACHE_JITTER_LOD_REDRAWN (1: the cell size drawn again at the
+//   jittered point, as 0.18's opt-in jitter and 0.19; 0: Bevy #21953's bug),
 //   WORLD_CACHE_UPDATE_GROUP (workgroup width of the per-active-cell passes:
 //   sample_di, sample_gi, blend; world_cache.workgroup_size),
 //   WORLD_CACHE_ROOT_FRAME (defined only with the cache_lifetime check: root-frame instrumentation).

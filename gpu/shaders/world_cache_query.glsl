@@ -62,7 +62,9 @@ vec3 world_cache_query(vec3 position, vec3 normal, float ray_t, bool first_bounc
 #endif
 #if WORLD_CACHE_JITTER != 0
   position = world_cache_jitter(position, normal, cell_size, rng_next_vec2(rng));
+#if WORLD_CACHE_JITTER_LOD_REDRAWN != 0
   cell_size = world_cache_query_cell_size(position, rng);
+#endif
 #endif
   uvec3 qp = world_cache_quantize_position(position, cell_size);
   uvec3 qn = world_cache_quantize_normal(normal, float(WORLD_CACHE_NORMAL_KEY_SCALE));

@@ -36,7 +36,15 @@ namespace gpu {
 class Renderer;
 struct GiFrameStats;
 struct WorldCacheFrameStats;
+struct WorldCacheSettings;
 }  // namespace gpu
+
+// The world cache's table as a check reads it (FrameInput::cache_cells).
+struct CacheCells {
+  std::vector<std::uint32_t> checksums, life;
+  std::vector<glm::vec4> positions, normals;  // the query point that made each cell, its normal
+  const gpu::WorldCacheSettings* settings = nullptr;
+};
 
 // What the run computes, fixed before the first frame; a check is made from it.
 struct CheckContext {
@@ -61,6 +69,7 @@ enum class FrameInput {
   gi_luminance,        // mean luminance of the GI signal (chain A)
   cache_stats,         // the world cache's statistics (gpu/passes/world_cache.h)
   cache_view,          // mean luminance of the debug cache view
+  cache_cells,         // the world cache's table: checksums, life, geometry (full readback: judged frames only)
   cluster_visibility,  // packed visibility IDs and the cluster table
   chains,              // realtime chains A and B: this frame and the window's temporal mean
   reference_halves,    // the reference mode's two half-sample means
@@ -112,6 +121,9 @@ class FrameView {
   double gi_luminance() const;
   const gpu::WorldCacheFrameStats* cache_stats() const;  // null without the world cache
   std::optional<double> cache_view_luminance() const;    // none without the debug view
+  // The world cache's table, read back now (call it only on the frames the
+  // check judges: it downloads every cell).
+  CacheCells cache_cells() const;
   std::vector<glm::uvec2> packed_visibility() const;
   const std::vector<std::uint32_t>& cluster_table() const;
   // Realtime: DI, plus GI and specular when they run, of chain 0 or 1.

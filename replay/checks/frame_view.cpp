@@ -43,6 +43,19 @@ std::optional<double> FrameView::cache_view_luminance() const {
   require(FrameInput::cache_view, "the cache view");
   return data_.cache_view_luminance;
 }
+CacheCells FrameView::cache_cells() const {
+  require(FrameInput::cache_cells, "the world cache's table");
+  const gpu::WorldCache& cache = data_.renderer->world_cache();
+  CacheCells c;
+  c.checksums = cache.checksums();
+  c.life = cache.life();
+  for (const auto& g : cache.geometry()) {
+    c.positions.push_back(g.position);
+    c.normals.push_back(g.normal);
+  }
+  c.settings = &cache.settings();
+  return c;
+}
 std::vector<glm::uvec2> FrameView::packed_visibility() const {
   require(FrameInput::cluster_visibility, "packed visibility");
   return data_.renderer->packed_visibility();
