@@ -19,6 +19,7 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
     s.samples_per_tile = gpu::light_tile_samples_for_scene(scene, s.samples_per_tile, s.initial_samples);
   s.exposure = static_cast<float>(p.number("light_tiles.exposure"));
   s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
+  s.tile_seed_scrolling = p.text("light_tiles.seeding") == "scrolling";
   s.confidence_cap = static_cast<float>(p.number("restir_di.confidence_cap"));
   s.spatial_radius = static_cast<float>(p.number("restir_di.spatial_radius_px"));
   s.spatial_tries = static_cast<std::uint32_t>(p.integer("restir_di.spatial_tries"));

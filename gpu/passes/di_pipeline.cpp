@@ -169,6 +169,11 @@ Image DiPipeline::frame(std::uint32_t chain) const {
   return img;
 }
 
+std::vector<shader::LightSample> DiPipeline::tile_samples(std::uint32_t chain) const {
+  const std::size_t n = std::size_t(settings_.tile_count) * settings_.samples_per_tile;
+  return tile_samples_.download<shader::LightSample>(n, chain * n);
+}
+
 Image DiPipeline::mean(std::uint32_t chain) const {
   const auto sums = accumulation_.download<glm::vec4>(pixels(), chain * pixels());
   Image img(width_, height_);

@@ -12,6 +12,7 @@
 
 #include "core/image.h"
 #include "core/scene_flatten.h"
+#include "core/shared/reservoir.h"
 #include "gpu/buffer.h"
 #include "gpu/passes/light_tiles.h"
 #include "gpu/passes/restir_di.h"
@@ -38,6 +39,9 @@ class DiPipeline {
   Image frame(std::uint32_t chain) const;  // this frame's DI
   Image mean(std::uint32_t chain) const;   // sum / frames over the window
   std::uint32_t accumulated_frames(std::uint32_t chain) const;
+  // This frame's light-tile samples of one chain, tile-major
+  // (settings().tile_count × samples_per_tile).
+  std::vector<shader::LightSample> tile_samples(std::uint32_t chain) const;
   const DiSettings& settings() const { return settings_; }
 
   // Captures and replay (gpu/state_buffers.h): every buffer a frame writes or

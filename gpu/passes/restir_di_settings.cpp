@@ -13,6 +13,7 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"LIGHT_TILE_SAMPLES", std::to_string(samples_per_tile) + "u"},
           {"LIGHT_TILE_EXPOSURE", f(exposure)},
           {"LIGHT_TILE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
+          {"LIGHT_TILE_SCROLLING", tile_seed_scrolling ? "1" : "0"},
           {"DI_INITIAL_SAMPLES", std::to_string(initial_samples) + "u"},
           {"DI_CONFIDENCE_CAP", f(confidence_cap)},
           {"DI_SPATIAL_RADIUS", f(spatial_radius)},

@@ -60,6 +60,11 @@ struct DiSettings {
   // base_color/π whatever the metallic, no specular lobe; false ("brdf"): the
   // full BRDF (with the handover above).
   bool shading_base_over_pi = false;
+  // light_tiles.seeding "scrolling" (Bevy 0.17-0.19, fixed on main by
+  // #24670): a tile's pool is seeded by tile + frame, so tile t at frame f
+  // draws exactly what tile t + 1 drew at frame f − 1; false ("independent"):
+  // every tile and frame draws afresh.
+  bool tile_seed_scrolling = false;
 
   std::vector<ShaderDefine> defines() const;
 };

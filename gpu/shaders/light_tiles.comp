@@ -24,7 +24,16 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   uint chain = gl_GlobalInvocationID.y;
   if (i >= per_chain) return;
+#if LIGHT_TILE_SCROLLING != 0
+  // Bevy before #24670 (v0.19.0:realtime/presample_light_tiles.wgsl:16 with
+  // node.rs:236): seed (tile + frame) · c + sample, so the pools scroll by
+  // one tile a frame.
+  uint tile = i / uint(LIGHT_TILE_SAMPLES);
+  uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_LIGHT_TILES + chain,
+                      (tile + frame.resolution_frame.z) * uint(LIGHT_TILE_SAMPLES) + i % uint(LIGHT_TILE_SAMPLES), 0u);
+#else
   uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_LIGHT_TILES + chain, i, frame.resolution_frame.z);
+#endif
   LightSample s = generate_light_sample(rng);
   PackedLightSample p;
   p.position_x = 0.0;

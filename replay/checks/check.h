@@ -11,6 +11,7 @@
 // The loop (replay/frame_loop.h) compiles and reads back only what some
 // check, the capture or the frame record asks for.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -70,6 +71,7 @@ enum class FrameInput {
   cache_stats,         // the world cache's statistics (gpu/passes/world_cache.h)
   cache_view,          // mean luminance of the debug cache view
   cache_cells,         // the world cache's table: checksums, life, geometry (full readback: judged frames only)
+  light_tiles,         // this frame's light-tile samples, chain A (readback: judged frames only)
   cluster_visibility,  // packed visibility IDs and the cluster table
   chains,              // realtime chains A and B: this frame and the window's temporal mean
   reference_halves,    // the reference mode's two half-sample means
@@ -124,6 +126,9 @@ class FrameView {
   // The world cache's table, read back now (call it only on the frames the
   // check judges: it downloads every cell).
   CacheCells cache_cells() const;
+  // This frame's light-tile samples of chain A, tile-major, and the samples
+  // per tile (read back now: call it on judged frames only).
+  std::vector<std::array<std::uint32_t, 4>> light_tile_samples(std::uint32_t& samples_per_tile) const;
   std::vector<glm::uvec2> packed_visibility() const;
   const std::vector<std::uint32_t>& cluster_table() const;
   // Realtime: DI, plus GI and specular when they run, of chain 0 or 1.

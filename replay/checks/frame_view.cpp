@@ -56,6 +56,14 @@ CacheCells FrameView::cache_cells() const {
   c.settings = &cache.settings();
   return c;
 }
+std::vector<std::array<std::uint32_t, 4>> FrameView::light_tile_samples(std::uint32_t& samples_per_tile) const {
+  require(FrameInput::light_tiles, "the light tiles");
+  const gpu::DiPipeline& di = data_.renderer->di();
+  samples_per_tile = di.settings().samples_per_tile;
+  std::vector<std::array<std::uint32_t, 4>> out;
+  for (const auto& s : di.tile_samples(0)) out.push_back({s.light_id, s.triangle_id, s.seed, s.valid});
+  return out;
+}
 std::vector<glm::uvec2> FrameView::packed_visibility() const {
   require(FrameInput::cluster_visibility, "packed visibility");
   return data_.renderer->packed_visibility();
