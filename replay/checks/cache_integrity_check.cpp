@@ -18,7 +18,6 @@
 // so "keyed" and "reachable" are judged only while the camera has not moved
 // (turning is fine); frames after a move are reported as not testable.
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <optional>
 #include <utility>
@@ -27,7 +26,6 @@
 
 #include "core/errors.h"
 #include "core/scene.h"
-#include "core/profile.h"
 #include "core/shared/world_cache.h"
 #include "gpu/passes/world_cache.h"
 #include "replay/checks/cache_lifetime_check.h"
