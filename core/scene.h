@@ -61,6 +61,10 @@ struct Scene {
   std::vector<Instance> instances;
   std::vector<DirectionalLight> directional_lights;
   Camera camera;
+  // Which Bevy release's material model shades every material (brdf.h's
+  // BRDF_*; the profile's brdf.model, set by apply_material_model). Both
+  // renderers read it from the flattened materials.
+  std::uint32_t brdf_model = 0;
   std::vector<std::string> warnings;  // stated simplifications made on import
 
   std::optional<std::uint32_t> find_instance(const std::string& name) const;

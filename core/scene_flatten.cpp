@@ -77,7 +77,7 @@ FlatInstances flatten_instances(const Scene& scene, const FlatGeometry& geometry
     GpuMaterial g;
     g.base_color_metallic = glm::vec4(m.base_color, m.metallic);
     g.emissive_perceptual_roughness = glm::vec4(m.emissive, m.perceptual_roughness);
-    g.reflectance = glm::vec4(m.reflectance, 0.0f, 0.0f, 0.0f);
+    g.reflectance = glm::vec4(m.reflectance, static_cast<float>(scene.brdf_model), 0.0f, 0.0f);
     f.materials.push_back(g);
   }
   for (const DirectionalLight& d : scene.directional_lights) {

@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/errors.h"
+#include "core/shared/dfg_lut.h"
 #include "gpu/buffer.h"
 #include "gpu/device.h"
 #include "gpu/shaders/bindings.h"
@@ -24,7 +25,14 @@ std::vector<DescriptorBinding> scene_descriptor_bindings() {
           {BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
           {BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
           {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-          {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
+          {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+          {BINDING_DFG_LUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+}
+
+Buffer make_dfg_lut_buffer(Device& device) {
+  Buffer b(device, sizeof(DFG_LUT), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "DFG table");
+  b.upload(std::span<const std::uint32_t>(DFG_LUT));
+  return b;
 }
 
 ComputePass::ComputePass(Device& device, std::string name, std::span<const std::uint32_t> spirv,
@@ -187,6 +195,8 @@ void ComputePass::bind_scene(const SceneResources& scene) {
   bind_buffer(BINDING_MATERIALS, *scene.materials);
   bind_buffer(BINDING_LIGHTS, *scene.lights);
   bind_buffer(BINDING_FRAME, *scene.frame);
+  if (!scene.dfg_lut) throw DeviceError(fmt::format("pass '{}': bound without the DFG table", name_));
+  bind_buffer(BINDING_DFG_LUT, *scene.dfg_lut);
 }
 
 void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t gy, std::uint32_t gz,

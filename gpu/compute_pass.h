@@ -39,7 +39,11 @@ struct SceneResources {
   // positional initialisers of the fields above stay valid.
   const Buffer* bvh_nodes = nullptr;
   const Buffer* bvh_triangles = nullptr;
+  const Buffer* dfg_lut = nullptr;  // make_dfg_lut_buffer: BRDF_LAYERED's table
 };
+
+// The DFG table (core/shared/dfg_lut.h) as the storage buffer SceneResources binds.
+Buffer make_dfg_lut_buffer(Device& device);
 
 class ComputePass {
  public:

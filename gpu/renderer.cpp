@@ -38,6 +38,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
       indices_(make_geometry_buffer(device, geometry.indices.data(),
                                     geometry.indices.size() * sizeof(std::uint32_t), "indices")),
       frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
+      dfg_lut_(make_dfg_lut_buffer(device)),
       timer_(device) {
   if (options.width == 0 || options.height == 0)
     throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));
@@ -79,6 +80,11 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     if (!options_.gbuffer) throw DeviceError("Renderer: the world cache needs the G-buffer (RendererOptions::gbuffer)");
     WorldCacheSettings cache = *options_.world_cache;
     if (gi_queries_cache) cache.external_queries_per_pixel = options_.gi->chains * (options_.gi->specular ? 2u : 1u);
+    if (cache.tile_candidates) {
+      if (!di_) throw DeviceError("Renderer: the world cache's light-tile candidates need realtime DI's light tiles");
+      cache.tile_count = options_.di->tile_count;  // the tiles as DI sized them
+      cache.tile_samples = options_.di->samples_per_tile;
+    }
     world_cache_.emplace(device, compiler, cache, options.width, options.height);
   }
   if (options_.gi) {
@@ -141,6 +147,7 @@ void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>&
 void Renderer::bind_passes() {
   SceneResources scene{as_ ? as_->tlas() : VK_NULL_HANDLE, &vertices_, &indices_, &instances_, &materials_,
                        &lights_, &frame_};
+  scene.dfg_lut = &dfg_lut_;
   if (bvh_) {
     scene.bvh_nodes = &bvh_->nodes();
     scene.bvh_triangles = &bvh_->triangles();
@@ -149,7 +156,7 @@ void Renderer::bind_passes() {
   if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_);
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
   if (di_) di_->bind(scene, gbuffer_);
-  if (world_cache_) world_cache_->bind(scene, gbuffer_);
+  if (world_cache_) world_cache_->bind(scene, gbuffer_, di_ ? &di_->tile_packed() : nullptr);
   if (gi_) gi_->bind(scene, gbuffer_, world_cache_ ? &*world_cache_ : nullptr);
   bindings_dirty_ = false;
 }
@@ -174,12 +181,17 @@ void Renderer::render_frame(const FrameConstants& frame) {
     if (primary_visibility_) run("primary_visibility", *primary_visibility_);
     if (gbuffer_resolve_) run("gbuffer_resolve", *gbuffer_resolve_);
     if (reference_path_trace_) run("reference_path_trace", *reference_path_trace_);
+    const bool cache_fed_by_gi = gi_ && gi_->settings().queries_world_cache();
+    // Solari 0.17 updates the cache before it rebuilds the light tiles
+    // (v0.17.0:realtime/node.rs:257,273): the update reads last frame's.
+    const bool cache_before_tiles = cache_fed_by_gi && world_cache_->settings().tiles_previous_frame;
+    if (cache_before_tiles) world_cache_->record_update(cmd, timer_);
     if (di_) di_->record(cmd, timer_, /*accumulate=*/true);
-    if (gi_ && gi_->settings().queries_world_cache()) {
+    if (cache_fed_by_gi) {
       // The cache's update and its view's queries, then GI and specular GI
       // querying it (this frame's blended radiance, pixel-rooted), then one
       // commit of every pixel-rooted insertion before next frame's decay.
-      world_cache_->record_update(cmd, timer_);
+      if (!cache_before_tiles) world_cache_->record_update(cmd, timer_);
       gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
       world_cache_->record_commit(cmd, timer_);
     } else {

@@ -136,6 +136,7 @@ class Renderer {
   std::optional<AccelerationStructures> as_;  // rayquery backend
   std::optional<BvhBuffers> bvh_;             // bvh backend
   Buffer instances_, materials_, lights_, frame_;
+  Buffer dfg_lut_;  // make_dfg_lut_buffer, once per renderer
   Buffer visibility_, depth_, gbuffer_;
   Buffer reference_a_, reference_b_, nonfinite_;
   std::optional<PrimaryVisibility> primary_visibility_;

@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "core/shared/brdf.h"
 #include "gpu/passes/di_pipeline.h"
 
 namespace gi {
@@ -40,6 +41,13 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   return s;
 }
 
+void apply_material_model(Scene& scene, const Profile& p) {
+  const std::string& model = p.text("brdf.model");
+  scene.brdf_model = model == "layered"               ? shader::BRDF_LAYERED
+                     : model == "multiscatter_approx" ? shader::BRDF_MULTISCATTER_APPROX
+                                                      : shader::BRDF_SINGLE_SCATTER;
+}
+
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   gpu::WorldCacheSettings s;
   s.cells = static_cast<std::uint32_t>(p.integer("world_cache.cells"));
@@ -66,6 +74,9 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
   s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
+  s.drop_zero_channel_light = p.text("world_cache.direct_light_zero_channel") == "drop";
+  s.tile_candidates = p.text("world_cache.direct_light_candidates") == "light_tiles";
+  s.tiles_previous_frame = p.text("world_cache.light_tiles_frame") == "previous";
   s.glossy_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
   s.glossy_bounces = static_cast<std::uint32_t>(p.integer("specular.max_bounces"));
   return s;

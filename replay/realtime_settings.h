@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "core/profile.h"
+#include "core/scene.h"
 #include "core/scene_flatten.h"
 #include "gpu/passes/restir_di_settings.h"
 #include "gpu/passes/restir_gi_settings.h"
@@ -20,6 +21,10 @@ gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInsta
 // The world cache's constants (world_cache.*, and light_tiles.* for the radiance
 // encoding its direct samples see); the instrumentation flags are the caller's.
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& profile);
+
+// The profile's brdf.model on the scene, so the realtime passes and the
+// references judged against them shade with the same material model.
+void apply_material_model(Scene& scene, const Profile& profile);
 
 // ReSTIR GI and specular GI (restir_gi.*, specular.*, brdf.min_perceptual_roughness;
 // the pixel-similarity constants are restir_di's, the ray length world_cache.gi_ray_tmax),

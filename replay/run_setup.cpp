@@ -50,6 +50,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   if (scenario.cache_view && !realtime)
     throw InputError(scenario.file.string(), "/cache_view", "\"cache_view\": true in \"mode\": \"realtime\" only");
   for (const std::string& w : initial.warnings) spdlog::warn("{}: {}", scenario.name, w);
+  apply_material_model(initial, profile);  // materials only: the geometry above stays
   gi = realtime && scenario.gi;
   // Without the debug view only GI's queries put cells in the cache.
   cache_fed = scenario.cache_view || (gi && gi_settings_from_profile(profile, 1).queries_world_cache());

@@ -54,6 +54,8 @@ class CornellCacheView {
     o.height = h;
     o.reference = false;
     cache.view = true;
+    // No DI here, so no light tiles: the cache draws its own candidates.
+    cache.tile_candidates = false;
     o.world_cache = cache;
     return o;
   }

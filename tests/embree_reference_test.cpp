@@ -73,12 +73,12 @@ Scene closed_box(glm::vec3 albedo, glm::vec3 emission, glm::vec3 offset) {
   return s;
 }
 
-// Directional albedo of the specular part of brdf_params(white, 0, 1, 0) at
+// Directional albedo of the specular part of brdf_params(white, 0, 1, 0, BRDF_SINGLE_SCATTER) at
 // n·v = 0.01 (where Schlick's term would be largest), by Monte Carlo. With
 // Filament's f90 a reflectance of 0 has no specular lobe at all.
 double max_specular_albedo() {
   using namespace shader;
-  const BrdfParams p = brdf_params(glm::vec3(1.0f), 0.0f, 1.0f, 0.0f);
+  const BrdfParams p = brdf_params(glm::vec3(1.0f), 0.0f, 1.0f, 0.0f, BRDF_SINGLE_SCATTER);
   const glm::vec3 n(0.0f, 0.0f, 1.0f), v(std::sqrt(1.0f - 1e-4f), 0.0f, 0.01f);
   uint state = 99u;
   double sum = 0;

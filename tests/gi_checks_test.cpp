@@ -114,13 +114,15 @@ TEST(GiWorldCache, CornellBoxEnergyWithinFivePercentAndCacheCellsActive) {
 // (glossy hits followed along their BRDF before the path ends in the cache)
 // the same scene, same frames and window, is within 5 %. The window starts
 // after warmup_frames, so the cache's warm-up is not what is judged.
-TEST(GiWorldCache, MirrorSceneDarkWithDiffuseSecondaryHitsWithinFivePercentWithFull) {
+// Within 6 %, the scenario's tolerance, since 0.18's material model
+// (brdf.model multiscatter_approx) widened the gap (scenarios/gi_mirror.json).
+TEST(GiWorldCache, MirrorSceneDarkWithDiffuseSecondaryHitsWithinSixPercentWithFull) {
   const GiRun full = run_scenario_file("gi_mirror.json", "", "mirror_full");
   const nlohmann::json ok = check(full, "reference");
   ASSERT_TRUE(ok.contains("figures")) << full.output;
   const nlohmann::json last = ok["figures"]["frames"].back();
   EXPECT_EQ(ok["verdict"], "pass") << last.dump(1);
-  EXPECT_NEAR(last["temporal_mean"]["energy_ratio"].get<double>(), 1.0, 0.05) << last.dump(1);
+  EXPECT_NEAR(last["temporal_mean"]["energy_ratio"].get<double>(), 1.0, 0.06) << last.dump(1);
   EXPECT_EQ(last["window_start"].get<int>(), 64) << "warmup_frames must start the window at frame 64";
   EXPECT_EQ(last["window_frames"].get<int>(), 64);
   EXPECT_EQ(full.exit_code, 0) << full.output;

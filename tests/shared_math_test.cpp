@@ -204,7 +204,7 @@ vec3 view_with(float NoV) { return vec3(std::sqrt(1.0f - NoV * NoV), 0.0f, NoV);
 TEST(SharedBrdf, SampleReturnsItsPdf) {
   const vec3 n(0.0f, 0.0f, 1.0f);
   for (const BrdfCase& c : kCases) {
-    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f);
+    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f, BRDF_SINGLE_SCATTER);
     const vec3 v = view_with(c.NoV);
     Stream s(19);
     for (int i = 0; i < 20000; ++i) {
@@ -229,7 +229,7 @@ TEST(SharedBrdf, SampledDirectionsFollowPdf) {
   constexpr int kDraws = 400000;
   for (const BrdfCase& c : kCases) {
     SCOPED_TRACE(::testing::Message() << "roughness " << c.roughness << " metallic " << c.metallic << " NoV " << c.NoV);
-    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f);
+    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f, BRDF_SINGLE_SCATTER);
     const vec3 v = view_with(c.NoV);
     const vec3 mirror = reflect(-v, n);
     const float cos_cone = std::cos(25.0f * PI / 180.0f);
@@ -265,7 +265,7 @@ TEST(SharedBrdf, PdfIntegratesToAtMostOne) {
   constexpr int kDraws = 1000000;
   for (const BrdfCase& c : kCases) {
     SCOPED_TRACE(::testing::Message() << "roughness " << c.roughness << " metallic " << c.metallic << " NoV " << c.NoV);
-    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f);
+    const BrdfParams p = brdf_params(vec3(0.8f, 0.6f, 0.4f), c.metallic, c.roughness, 0.5f, BRDF_SINGLE_SCATTER);
     const vec3 v = view_with(c.NoV);
     MeanEstimate integral;
     Stream s(31);
@@ -291,7 +291,7 @@ TEST(SharedBrdf, PdfIntegratesToAtMostOne) {
 TEST(SharedBrdf, WhiteFurnaceDiffuse) {
   const vec3 n = normalize(vec3(0.2f, -0.3f, 0.9f));
   for (float roughness : {1.0f, 0.5f}) {
-    const BrdfParams p = brdf_params(vec3(1.0f), 0.0f, roughness, 0.0f);
+    const BrdfParams p = brdf_params(vec3(1.0f), 0.0f, roughness, 0.0f, BRDF_SINGLE_SCATTER);
     for (float NoV : {1.0f, 0.7f, 0.3f, 0.01f}) {
       SCOPED_TRACE(::testing::Message() << "roughness " << roughness << " NoV " << NoV);
       const vec3 v = to_world(view_with(NoV), n);
@@ -322,7 +322,7 @@ TEST(SharedBrdf, WhiteFurnaceDiffuse) {
 // minimum roughness, where float n·h resolves the 1e-6-wide peak coarsely).
 TEST(SharedBrdf, GgxNormalDistributionIsNormalised) {
   for (float perceptual : {MIN_PERCEPTUAL_ROUGHNESS, 0.1f, 0.3f, 0.6f, 1.0f}) {
-    const float alpha = brdf_params(vec3(1.0f), 0.0f, perceptual, 0.5f).alpha;
+    const float alpha = brdf_params(vec3(1.0f), 0.0f, perceptual, 0.5f, BRDF_SINGLE_SCATTER).alpha;
     double integral = 0;
     const int kSteps = 400000;
     const double log_lo = std::log(1e-14), log_hi = 0.0;
@@ -350,7 +350,7 @@ TEST(SharedBrdf, NoNonFiniteValuesOnHardCases) {
   for (float roughness : {0.0f, 1e-4f, MIN_PERCEPTUAL_ROUGHNESS, 0.5f}) {
     for (float metallic : {0.0f, 1.0f}) {
       for (vec3 base : {vec3(0.0f), vec3(1.0f), vec3(0.5f, 0.2f, 0.9f)}) {
-        const BrdfParams p = brdf_params(base, metallic, roughness, 0.5f);
+        const BrdfParams p = brdf_params(base, metallic, roughness, 0.5f, BRDF_SINGLE_SCATTER);
         ASSERT_GE(p.alpha, MIN_PERCEPTUAL_ROUGHNESS * MIN_PERCEPTUAL_ROUGHNESS);
         for (const vec3& v : views) {
           std::vector<vec3> lights = {v, normalize(v + vec3(1e-6f, 0.0f, 0.0f)), reflect(-v, n), n,

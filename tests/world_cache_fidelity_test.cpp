@@ -207,9 +207,11 @@ TEST(WorldCacheFidelity019, JitterStoresPointsUpToHalfACellPastTheSurfaceEdge) {
 
 // ---- End to end (giharness run, ReSTIR GI feeding the cache) ----
 
-test::ScenarioRun run_cornell_gi(const std::string& sets, const std::string& tag, int frames = 10) {
+test::ScenarioRun run_cornell_gi(const std::string& sets, const std::string& tag, int frames = 10,
+                                 const nlohmann::json& events = nlohmann::json::array()) {
   test::TempDir dir("wc_fidelity_" + tag);
   const nlohmann::json doc = {{"name", "wc_fidelity_" + tag},
+                              {"events", events},
                               {"scene", {{"generator", "cornell_box"}}},
                               {"resolution", {48, 48}},
                               {"frames", frames},
@@ -273,18 +275,88 @@ TEST(WorldCacheFidelity019, SoftCapUpdatesAboutCapCellsAFrame) {
 }
 
 // world_cache.workgroup_size (0.17's 1024, 64 since) sets the width of the
-// per-active-cell passes and nothing else: every cell and the image keep
-// their bits. A width the device cannot run is bad input.
-TEST(WorldCacheFidelity019, WorkgroupWidthChangesNoBit) {
-  const auto wide = run_cornell_gi("--set world_cache.workgroup_size=1024", "group_1024", 6);
-  const auto narrow = run_cornell_gi("--set world_cache.workgroup_size=64", "group_64", 6);
+// per-active-cell passes. With the cache's own light candidates that is all:
+// every cell and the image keep their bits. With Bevy's light-tile
+// candidates (one tile per workgroup) it also sets how many cells share a
+// tile, so the radiance changes and nothing else. A width the device cannot
+// run is bad input.
+TEST(WorldCacheFidelity019, WorkgroupWidthChangesNoBitButTheTileEachCellReads) {
+  const std::string own = "--set world_cache.direct_light_candidates=own ";
+  const auto wide = run_cornell_gi(own + "--set world_cache.workgroup_size=1024", "group_1024", 6);
+  const auto narrow = run_cornell_gi(own + "--set world_cache.workgroup_size=64", "group_64", 6);
   ASSERT_EQ(wide.exit_code, 0) << wide.output;
   ASSERT_EQ(narrow.exit_code, 0) << narrow.output;
   EXPECT_EQ(wide.summary.at("world_cache_hashes"), narrow.summary.at("world_cache_hashes"));
   EXPECT_EQ(wide.summary.at("final_image_hash"), narrow.summary.at("final_image_hash"));
+  const auto tiles_wide = run_cornell_gi("--set world_cache.workgroup_size=1024", "tiles_1024", 6);
+  const auto tiles_narrow = run_cornell_gi("--set world_cache.workgroup_size=64", "tiles_64", 6);
+  ASSERT_EQ(tiles_wide.exit_code, 0) << tiles_wide.output;
+  const auto& hw = tiles_wide.summary.at("world_cache_hashes");
+  const auto& hn = tiles_narrow.summary.at("world_cache_hashes");
+  EXPECT_EQ(hw.at("checksums"), hn.at("checksums"));
+  EXPECT_EQ(hw.at("life"), hn.at("life"));
+  EXPECT_NE(hw.at("radiance"), hn.at("radiance"));
   const auto bad = run_cornell_gi("--set world_cache.workgroup_size=0", "group_0", 2);
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("world_cache.workgroup_size"), std::string::npos) << bad.output;
+}
+
+// Bevy 0.17-0.19 keep a cache cell's direct light only if every channel of
+// the chosen sample's radiance is non-zero: under a pure red light (the
+// Cornell light's colour times (1, 0, 0) from frame 0) the cache stays dark
+// and only "keep" (the fix, #24767) lights it. A white light is the same
+// either way.
+TEST(WorldCacheFidelity, ZeroChannelLightIsDroppedOnlyUnderDrop) {
+  const nlohmann::json red = nlohmann::json::array(
+      {{{"type", "light_color"}, {"frame", 0}, {"light", "light"}, {"color", {1.0, 0.0, 0.0}}}});
+  auto mean_radiance = [](const test::ScenarioRun& r) {
+    return r.summary.at("frames").back().at("world_cache").at("mean_radiance").get<double>();
+  };
+  const auto dropped = run_cornell_gi("--set world_cache.direct_light_zero_channel=drop", "red_drop", 6, red);
+  const auto kept = run_cornell_gi("--set world_cache.direct_light_zero_channel=keep", "red_keep", 6, red);
+  ASSERT_EQ(dropped.exit_code, 0) << dropped.output;
+  ASSERT_EQ(kept.exit_code, 0) << kept.output;
+  std::cout << "red light, cache mean radiance: drop " << mean_radiance(dropped) << ", keep " << mean_radiance(kept)
+            << "\n";
+  EXPECT_EQ(mean_radiance(dropped), 0.0);
+  EXPECT_GT(mean_radiance(kept), 0.01);
+  const auto white_drop = run_cornell_gi("--set world_cache.direct_light_zero_channel=drop", "white_drop", 4);
+  const auto white_keep = run_cornell_gi("--set world_cache.direct_light_zero_channel=keep", "white_keep", 4);
+  EXPECT_EQ(white_drop.summary.at("world_cache_hashes"), white_keep.summary.at("world_cache_hashes"));
+}
+
+double cache_mean_radiance(const test::ScenarioRun& r, std::size_t frame) {
+  return r.summary.at("frames").at(frame).at("world_cache").at("mean_radiance").get<double>();
+}
+
+// Solari's cache takes its direct-light candidates from the light tiles
+// (world_cache.direct_light_candidates light_tiles); 0.17 updates the cache
+// before it rebuilds them, so the update reads last frame's
+// (world_cache.light_tiles_frame previous, #21348). The light turns 10×
+// brighter at frame 4: this frame's tiles carry it into the cache's update at
+// once, last frame's a frame late. In a static scene the tiles and the
+// cache's own candidates estimate the same light.
+TEST(WorldCacheFidelity, CacheReadsTheLightTilesOfItsFrameOrLastFrame) {
+  const nlohmann::json brighter = nlohmann::json::array(
+      {{{"type", "light_intensity"}, {"frame", 4}, {"light", "light"}, {"scale", 10.0}}});
+  const auto current = run_cornell_gi("--set world_cache.light_tiles_frame=current", "tiles_current", 6, brighter);
+  const auto previous = run_cornell_gi("--set world_cache.light_tiles_frame=previous", "tiles_previous", 6, brighter);
+  ASSERT_EQ(current.exit_code, 0) << current.output;
+  ASSERT_EQ(previous.exit_code, 0) << previous.output;
+  std::cout << "cache mean radiance, frames 3 / 4 / 5: current " << cache_mean_radiance(current, 3) << " / "
+            << cache_mean_radiance(current, 4) << " / " << cache_mean_radiance(current, 5) << ", previous "
+            << cache_mean_radiance(previous, 3) << " / " << cache_mean_radiance(previous, 4) << " / "
+            << cache_mean_radiance(previous, 5) << "\n";
+  EXPECT_NEAR(cache_mean_radiance(previous, 3) / cache_mean_radiance(current, 3), 1.0, 0.25);
+  EXPECT_GT(cache_mean_radiance(current, 4), 2.0 * cache_mean_radiance(previous, 4));
+  EXPECT_GT(cache_mean_radiance(previous, 5), 2.0 * cache_mean_radiance(previous, 4));
+
+  const auto tiles = run_cornell_gi("--set world_cache.direct_light_candidates=light_tiles", "tiles", 10);
+  const auto own = run_cornell_gi("--set world_cache.direct_light_candidates=own", "own", 10);
+  ASSERT_EQ(tiles.exit_code, 0) << tiles.output;
+  ASSERT_EQ(own.exit_code, 0) << own.output;
+  EXPECT_NE(tiles.summary.at("world_cache_hashes"), own.summary.at("world_cache_hashes"));
+  EXPECT_NEAR(cache_mean_radiance(tiles, 9) / cache_mean_radiance(own, 9), 1.0, 0.1);
 }
 
 }  // namespace

@@ -1,32 +1,52 @@
 // The material model both renderers shade with (DESIGN §3, "Materials"):
-// Lambert diffuse + GGX specular with Smith height-correlated visibility and
-// Schlick Fresnel, F0 from base colour, metallic and reflectance
-// (Filament / Bevy StandardMaterial conventions), roughness = perceptual².
-// Multiscatter energy compensation is not modelled yet (README, "Design notes").
+// diffuse + GGX specular with Smith height-correlated visibility and Schlick
+// Fresnel, F0 from base colour, metallic and reflectance (Filament / Bevy
+// StandardMaterial conventions), roughness = perceptual². Which Bevy release's
+// scene/brdf.wgsl it follows is the profile's `brdf.model`, carried by every
+// material (GpuMaterial.reflectance.y) so both renderers shade alike:
+//   BRDF_SINGLE_SCATTER      Lambert + single-scatter GGX (the harness's earlier model)
+//   BRDF_MULTISCATTER_APPROX v0.17.0 / v0.18.0: the lobe × 1 + F0 (1/F_ab.x − 1) with
+//                            Karis's polynomial F_ab (bevy_pbr pbr_lighting.wgsl:324-335, 523-529)
+//   BRDF_LAYERED             v0.19.0 scene/brdf.wgsl:68-121: the diffuse lobe scaled by
+//                            (1 − F(n·l)) (1 − F(n·v)), Fresnel with f90 = 1, the lobe
+//                            × 1 + F0 (1/(F_ab.x + F_ab.y) − 1), F_ab from a DFG table (dfg_lut.h)
 #ifndef GI_SHARED_BRDF_H
 #define GI_SHARED_BRDF_H
 #include "host_device.h"
 #include "sampling.h"
+#include "dfg_lut.h"
 
 GI_SHADER_BEGIN
+
+GI_CONST uint BRDF_SINGLE_SCATTER = 0u;
+GI_CONST uint BRDF_MULTISCATTER_APPROX = 1u;
+GI_CONST uint BRDF_LAYERED = 2u;
 
 // 0.18 clamps perceptual roughness to >= 0.0316 (roughness 0.001): below it
 // D_GGX overflows in float and zero roughness gives NaN (Solari 0.18 post).
 GI_CONST float MIN_PERCEPTUAL_ROUGHNESS = 0.0316f;
 
 struct BrdfParams {
-  vec3 diffuse_color;  // base_color * (1 - metallic)
-  vec3 f0;             // 0.16 reflectance² (1 - metallic) + base_color metallic
-  float alpha;         // perceptual_roughness², after the clamp
+  vec3 diffuse_color;          // base_color * (1 - metallic)
+  vec3 f0;                     // 0.16 reflectance² (1 - metallic) + base_color metallic
+  float alpha;                 // perceptual_roughness², after the clamp
+  float perceptual_roughness;  // after the clamp: F_ab's second coordinate
+  uint model;                  // BRDF_SINGLE_SCATTER, BRDF_MULTISCATTER_APPROX or BRDF_LAYERED
 };
 
-GI_FN BrdfParams brdf_params(vec3 base_color, float metallic, float perceptual_roughness,
-                             float reflectance) {
+// The clamp stays under every model. Bevy 0.19 drops it and treats α ≤ 0.001
+// as an exact mirror instead (gbuffer_utils.wgsl:21, scene/brdf.wgsl:100-106);
+// the clamped lobe has α = 0.001, which specular.h samples as that same exact
+// reflection, so the two agree wherever a ray is reflected.
+GI_FN BrdfParams brdf_params(vec3 base_color, float metallic, float perceptual_roughness, float reflectance,
+                             uint model) {
   BrdfParams p;
   p.diffuse_color = base_color * (1.0f - metallic);
   p.f0 = vec3(0.16f * reflectance * reflectance * (1.0f - metallic)) + base_color * metallic;
   float r = max(perceptual_roughness, MIN_PERCEPTUAL_ROUGHNESS);
   p.alpha = r * r;
+  p.perceptual_roughness = r;
+  p.model = model;
   return p;
 }
 
@@ -59,37 +79,85 @@ GI_FN vec3 F_Schlick(vec3 f0, float VoH) {
   return f0 + (vec3(f90) - f0) * f;
 }
 
+// Bevy 0.19's own Schlick (scene/brdf.wgsl:114-116): f90 = 1 for every f0.
+GI_FN vec3 F_Schlick_f90_one(vec3 f0, float VoH) {
+  return f0 + (vec3(1.0f) - f0) * pow(1.0f - saturate(VoH), 5.0f);
+}
+
+GI_FN vec3 brdf_fresnel(BrdfParams p, float VoH) {
+  return p.model == BRDF_LAYERED ? F_Schlick_f90_one(p.f0, VoH) : F_Schlick(p.f0, VoH);
+}
+
+// Karis's polynomial fit of the split-sum scale and bias, as bevy_pbr has it
+// in 0.17 and 0.18 (pbr_lighting.wgsl:523-529 at v0.18.0; no lower bound yet).
+GI_FN vec2 F_ab_polynomial(float perceptual_roughness, float NoV) {
+  vec4 c0 = vec4(-1.0f, -0.0275f, -0.572f, 0.022f);
+  vec4 c1 = vec4(1.0f, 0.0425f, 1.04f, -0.04f);
+  vec4 r = perceptual_roughness * c0 + c1;
+  float a004 = min(r.x * r.x, exp2(-9.28f * NoV)) * r.x + r.y;
+  return vec2(-1.04f, 1.04f) * a004 + vec2(r.z, r.w);
+}
+
+// bevy_pbr's multiscatter factor (specular_multiscatter); 1 under the
+// single-scatter model. 0.17 and 0.18 divide by the scale alone,
+// 1 + F0 (1/F_ab.x − 1) (v0.18.0 pbr_lighting.wgsl:324-335), so a rough
+// white metal reflects more than it receives; 0.19 divides by the
+// single-scatter albedo F_ab.x + F_ab.y as Filament does (v0.19.0
+// pbr_lighting.wgsl:330-342, #23514).
+GI_FN vec3 energy_compensation(BrdfParams p, float NoV) {
+  if (p.model == BRDF_SINGLE_SCATTER) return vec3(1.0f);
+  if (p.model == BRDF_LAYERED) {
+    vec2 f_ab = dfg_lut_f_ab(NoV, p.perceptual_roughness);
+    return vec3(1.0f) + p.f0 * (1.0f / (f_ab.x + f_ab.y) - 1.0f);
+  }
+  vec2 f_ab = F_ab_polynomial(p.perceptual_roughness, NoV);
+  return vec3(1.0f) + p.f0 * (1.0f / f_ab.x - 1.0f);
+}
+
 // Cosines below this count as grazing; keeps every division finite.
 GI_CONST float BRDF_MIN_COS = 1e-6f;
 
-// The specular lobe (D_GGX · V_SmithGGXCorrelated · F_Schlick) at a given
-// alpha, n facing v. No clamp here: alpha = 0 at the mirror direction
-// is D_GGX = 0/0.
-GI_FN vec3 specular_brdf(vec3 f0, float alpha, vec3 n, vec3 v, vec3 l) {
+// The specular lobe under the material's model: D · V · F, times the
+// multiscatter factor (Bevy: evaluate_specular_brdf, without the cosine),
+// n facing v. No clamp here: alpha = 0 at the mirror direction is
+// D_GGX = 0/0.
+GI_FN vec3 specular_lobe(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   float NoL = dot(n, l);
   if (NoL <= 0.0f) return vec3(0.0f);
   float NoV = max(dot(n, v), BRDF_MIN_COS);
   vec3 h = normalize(v + l);
   float NoH = saturate(dot(n, h));
   float VoH = saturate(dot(v, h));
-  return D_GGX(alpha, NoH) * V_SmithGGXCorrelated(alpha, NoV, NoL) * F_Schlick(f0, VoH);
+  return D_GGX(p.alpha, NoH) * V_SmithGGXCorrelated(p.alpha, NoV, NoL) * brdf_fresnel(p, VoH) *
+         energy_compensation(p, NoV);
 }
+
+// The diffuse lobe alone (Bevy: evaluate_diffuse_brdf, without the cosine).
+// v matters only under BRDF_LAYERED, whose lobe is what the two Fresnel
+// transmissions leave (scene/brdf.wgsl:89-99 at v0.19.0: zero below 1e-4).
+GI_FN vec3 brdf_eval_diffuse(BrdfParams p, vec3 n, vec3 v, vec3 l) {
+  float NoL = dot(n, l);
+  if (p.model != BRDF_LAYERED) return NoL > 0.0f ? p.diffuse_color * INV_PI : vec3(0.0f);
+  float NoV = dot(n, v);
+  if (NoL < 0.0001f || NoV < 0.0001f) return vec3(0.0f);
+  vec3 layering = (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoL)) * (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoV));
+  return p.diffuse_color * INV_PI * layering;
+}
+
+// Whether the specular lobe can reflect anything: F0 > 0, or Fresnel's
+// grazing reflection under 0.19's f90 = 1 (then even reflectance 0 reflects).
+GI_FN bool brdf_has_specular(BrdfParams p) { return p.model == BRDF_LAYERED || max3(p.f0) > 0.0f; }
 
 // f(v, l) (without the cosine), n the shading normal facing v.
 GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   if (dot(n, l) <= 0.0f) return vec3(0.0f);
-  return p.diffuse_color * INV_PI + specular_brdf(p.f0, p.alpha, n, v, l);
-}
-
-// The diffuse lobe alone (Solari's evaluate_diffuse_brdf).
-GI_FN vec3 brdf_eval_diffuse(BrdfParams p, vec3 n, vec3 l) {
-  return dot(n, l) > 0.0f ? p.diffuse_color * INV_PI : vec3(0.0f);
+  return brdf_eval_diffuse(p, n, v, l) + specular_lobe(p, n, v, l);
 }
 
 // Probability of sampling the specular lobe; depends on v only, so sampling
 // and pdf evaluation agree. Clamped so neither lobe is starved.
 GI_FN float specular_lobe_probability(BrdfParams p, float NoV) {
-  float s = luminance(F_Schlick(p.f0, NoV));
+  float s = luminance(brdf_fresnel(p, NoV));
   float d = luminance(p.diffuse_color);
   if (d <= 0.0f) return 1.0f;
   if (s <= 0.0f) return 0.0f;

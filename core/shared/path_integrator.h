@@ -113,7 +113,7 @@ GI_FN vec3 escaped_radiance(vec3 dir, float brdf_pdf_value) {
 GI_FN BrdfParams material_brdf(uint material) {
   GpuMaterial m = scene_material(material);
   return brdf_params(vec3(m.base_color_metallic), m.base_color_metallic.w,
-                     m.emissive_perceptual_roughness.w, m.reflectance.x);
+                     m.emissive_perceptual_roughness.w, m.reflectance.x, uint(m.reflectance.y));
 }
 
 // Radiance along one camera ray. max_bounces caps the path length (Russian

@@ -28,7 +28,8 @@ struct GpuInstance {
 struct GpuMaterial {
   vec4 base_color_metallic;             // rgb base colour, a metallic
   vec4 emissive_perceptual_roughness;   // rgb emissive radiance, a perceptual roughness
-  vec4 reflectance;                     // x reflectance (0.5 = 4% F0), yzw unused
+  vec4 reflectance;                     // x reflectance (0.5 = 4% F0), y the material model
+                                        // (brdf.h BRDF_*, Scene::brdf_model), zw unused
 };
 
 GI_CONST uint LIGHT_KIND_EMISSIVE_MESH = 0u;

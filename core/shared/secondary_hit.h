@@ -73,9 +73,9 @@ GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray
 #endif
 #if HIT_SURFACES_FULL != 0
   BrdfParams brdf = material_brdf(s.material);
-  if (max3(brdf.f0) > 0.0f && dot(ns, v) > 0.0f) {
+  if (brdf_has_specular(brdf) && dot(ns, v) > 0.0f) {
     vec3 l = to_world(sample_ggx_bounded_vndf(from_world(v, ns), brdf.alpha, rng_next_vec2(rng)), ns);
-    if (dot(l, ns) > 0.0f) albedo += specular_sample_weight(brdf.f0, brdf.alpha, ns, v, l);
+    if (dot(l, ns) > 0.0f) albedo += specular_sample_weight(brdf, ns, v, l);
   }
 #endif
 #if HIT_RADIANCE == 2

@@ -68,12 +68,14 @@ GI_FN float ggx_bounded_vndf_pdf(vec3 v, vec3 l, float alpha) {
 
 // brdf · cos / pdf of a direction drawn by sample_ggx_bounded_vndf, formed
 // the way Solari forms it (brdf and pdf apart): ≈ F at the clamped mirror,
-// NaN at alpha 0 — the bug the `finite` check exists for.
-GI_FN vec3 specular_sample_weight(vec3 f0, float alpha, vec3 n, vec3 v, vec3 l) {
+// NaN at alpha 0 — the bug the `finite` check exists for. The lobe is the
+// material model's (specular_lobe) at p.alpha, which the caller may have
+// set from its own clamp.
+GI_FN vec3 specular_sample_weight(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   vec3 vl = from_world(v, n);
   vec3 ll = from_world(l, n);
-  float pdf = ggx_bounded_vndf_pdf(vl, ll, alpha);
-  return specular_brdf(f0, alpha, n, v, l) * max(dot(n, l), 0.0f) / pdf;
+  float pdf = ggx_bounded_vndf_pdf(vl, ll, p.alpha);
+  return specular_lobe(p, n, v, l) * max(dot(n, l), 0.0f) / pdf;
 }
 
 GI_SHADER_END

@@ -30,6 +30,8 @@ class DiPipeline {
   // list (an instance's light keeps its identity; a light gone is dropped).
   void update_lights(const FlatInstances& scene);
   void bind(const SceneResources& scene, const Buffer& gbuffer);
+  // The packed light tiles (chain 0 first), which the world cache's update reads.
+  const Buffer& tile_packed() const { return tile_packed_; }
   // Records the three passes, each timed ("light_tiles", "di_initial_temporal",
   // "di_spatial_shade"), with barriers. accumulate: add this frame to the sums.
   void record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate);

@@ -39,7 +39,7 @@ class RayListTrace {
 
  private:
   Device& device_;
-  Buffer vertices_, indices_, instances_, materials_, lights_, frame_;
+  Buffer vertices_, indices_, instances_, materials_, lights_, frame_, dfg_lut_;
   std::optional<AccelerationStructures> as_;
   std::optional<BvhBuffers> bvh_;
   ComputePass pass_;

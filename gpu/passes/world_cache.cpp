@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "gpu/device.h"
 #include "gpu/shaders/bindings.h"
+#include "gpu/shaders/di_bindings.h"
 #include "gpu/shaders/world_cache_bindings.h"
 
 namespace gi::gpu {
@@ -32,6 +33,7 @@ std::vector<DescriptorBinding> cache_bindings() {
   b.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   for (std::uint32_t i = BINDING_WC_CHECKSUMS; i <= BINDING_WC_VIEW; ++i)
     b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  b.push_back({BINDING_LIGHT_TILE_PACKED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});  // direct-light candidates
   return b;
 }
 
@@ -101,6 +103,10 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
+                                 {"WORLD_CACHE_DROP_ZERO_CHANNEL", drop_zero_channel_light ? "1" : "0"},
+                                 {"WORLD_CACHE_TILE_CANDIDATES", tile_candidates ? "1" : "0"},
+                                 {"WORLD_CACHE_TILE_COUNT", u(tile_count)},
+                                 {"WORLD_CACHE_TILE_SAMPLES", u(tile_samples)},
                                  {"WORLD_CACHE_GLOSSY_ROUGHNESS", f(glossy_roughness)},
                                  {"WORLD_CACHE_GLOSSY_BOUNCES", u(glossy_bounces)},
                                  {"WORLD_CACHE_PENDING_CAPACITY", u(pending_capacity)}};
@@ -163,7 +169,9 @@ std::vector<std::pair<std::uint32_t, const Buffer*>> WorldCache::buffer_table() 
           {BINDING_WC_VIEW, &view_}};
 }
 
-void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
+void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer, const Buffer* light_tiles) {
+  if (settings_.tile_candidates && !light_tiles)
+    throw DeviceError("WorldCache: light-tile candidates without DI's light tiles");
   const std::pair<std::uint32_t, const Buffer*> table[] = {
       {BINDING_GBUFFER, &gbuffer},          {BINDING_WC_CHECKSUMS, &checksums_},
       {BINDING_WC_LIFE, &life_},            {BINDING_WC_RADIANCE, &radiance_},
@@ -172,7 +180,8 @@ void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer) {
       {BINDING_WC_ACTIVE, &active_},        {BINDING_WC_ACTIVE_STATE, &active_state_},
       {BINDING_WC_NEW_RADIANCE, &new_radiance_}, {BINDING_WC_BLOCK_SUMS, &block_sums_},
       {BINDING_WC_COUNTERS, &counters_},    {BINDING_WC_PENDING, &pending_},
-      {BINDING_WC_STATS, &stats_},          {BINDING_WC_VIEW, &view_}};
+      {BINDING_WC_STATS, &stats_},          {BINDING_WC_VIEW, &view_},
+      {BINDING_LIGHT_TILE_PACKED, light_tiles ? light_tiles : &view_}};  // any buffer when unread
   std::vector<ComputePass*> passes = {&decay_,       &compact_count_, &compact_scan_, &compact_write_,
                                       &sample_di_,   &sample_gi_,     &pending_args_,  &commit_,
                                       &blend_,       &stats_pass_};

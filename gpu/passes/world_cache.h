@@ -69,6 +69,20 @@ struct WorldCacheSettings {
   // Solari's diffuse-only cache (hit_radiance.glsl).
   bool secondary_hits_full = false;
   bool secondary_albedo_base = true;  // brdf.secondary_albedo (GiSettings)
+  // world_cache.direct_light_zero_channel "drop": a cell's direct light is
+  // lost when any channel of the chosen sample's radiance is 0 (Bevy 0.17-0.19:
+  // a pure red light never lights the cache).
+  bool drop_zero_channel_light = false;
+  // world_cache.direct_light_candidates "light_tiles" (Solari): the direct-light
+  // candidates come from one light tile per workgroup (DI's tiles, chain 0:
+  // tile_count × tile_samples); false: drawn afresh by the cache itself.
+  bool tile_candidates = false;
+  std::uint32_t tile_count = 128;
+  std::uint32_t tile_samples = 1024;
+  // world_cache.light_tiles_frame "previous" (0.17's pass order, cache before
+  // tiles): the update runs before DI rebuilds the tiles, so it reads last
+  // frame's (Renderer::render_frame). Only with tile_candidates.
+  bool tiles_previous_frame = false;
   float glossy_roughness = 0.4f;
   std::uint32_t glossy_bounces = 3;
   // The cache view (world_cache_query_pixels): a pixel-rooted query at every
@@ -107,7 +121,9 @@ class WorldCache {
   WorldCache(Device& device, ShaderCompiler& compiler, const WorldCacheSettings& settings, std::uint32_t width,
              std::uint32_t height);
 
-  void bind(const SceneResources& scene, const Buffer& gbuffer);
+  // light_tiles: DI's packed tiles (DiPipeline::tile_packed), read when
+  // settings().tile_candidates; null binds a placeholder.
+  void bind(const SceneResources& scene, const Buffer& gbuffer, const Buffer* light_tiles = nullptr);
   // Records every pass with barriers; timed as world_cache_decay,
   // world_cache_compact, world_cache_sample_di, world_cache_sample_gi (with its
   // commit), world_cache_blend, world_cache_view (settings.view only),

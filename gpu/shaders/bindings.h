@@ -18,6 +18,10 @@ GI_CONST uint BINDING_MATERIALS = 4u;         // GpuMaterial[]
 GI_CONST uint BINDING_LIGHTS = 5u;            // GpuLight[]
 GI_CONST uint BINDING_FRAME = 6u;             // uniform FrameConstants
 GI_CONST uint SCENE_BINDING_COUNT = 7u;
+// BRDF_LAYERED's DFG table (core/shared/dfg_lut.h): bound with the scene for
+// every pass; a buffer, as a constant array indexed per invocation is copied
+// per invocation on lavapipe (minutes per frame).
+GI_CONST uint BINDING_DFG_LUT = 14u;          // uint[] packHalf2x16(A, B)
 // The `bvh` backend (TRACE_BACKEND_BVH) replaces the TLAS with two buffers;
 // ComputePass swaps them in for BINDING_TLAS on a bvh Device.
 GI_CONST uint BINDING_BVH_NODES = 0u;         // BvhNode[] (core/shared/bvh_types.h), in place of the TLAS

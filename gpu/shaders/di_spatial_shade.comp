@@ -104,13 +104,13 @@ void main() {
 #endif
       if (visible) {
         BrdfParams brdf = brdf_params(d.g.base_color_metallic.rgb, d.g.base_color_metallic.a, d.g.emissive_roughness.a,
-                                      d.g.motion_reflectance.w);
+                                      d.g.motion_reflectance.w, gbuffer_brdf_model(d.g));
         // received_radiance carries cos(receiver)·cos(light)/d²; brdf_eval is the BRDF alone.
         // At alpha ≤ DI_SPECULAR_HANDOVER_ALPHA the specular lobe is specular GI's.
 #if DI_SHADING_BASE_OVER_PI != 0
         vec3 f = dot(d.ns, c.wi) > 0.0 ? d.g.base_color_metallic.rgb * INV_PI : vec3(0.0);
 #else
-        vec3 f = brdf.alpha <= float(DI_SPECULAR_HANDOVER_ALPHA) ? brdf_eval_diffuse(brdf, d.ns, c.wi)
+        vec3 f = brdf.alpha <= float(DI_SPECULAR_HANDOVER_ALPHA) ? brdf_eval_diffuse(brdf, d.ns, d.view, c.wi)
                                                                   : brdf_eval(brdf, d.ns, d.view, c.wi);
 #endif
         color += f * c.received_radiance * canonical.unbiased_contribution_weight;

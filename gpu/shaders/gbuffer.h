@@ -10,7 +10,7 @@ GI_SHADER_BEGIN
 struct GBufferTexel {
   vec4 position_depth;         // xyz world position, w hit t along the camera ray (0 = miss)
   vec4 geometric_normal;       // xyz unit, w 1 on a hit, 0 on a miss
-  vec4 shading_normal;         // xyz unit
+  vec4 shading_normal;         // xyz unit, w the material's brdf.model (gbuffer_brdf_model)
   vec4 base_color_metallic;    // rgb base colour, a metallic
   vec4 emissive_roughness;     // rgb emitted radiance (front face), a perceptual roughness
   vec4 motion_reflectance;     // xy motion in pixels (previous - current pixel), z 1 if valid, w reflectance
@@ -46,6 +46,9 @@ GI_FN bool temporal_source_pixel(uvec2 pixel, vec4 motion, uvec2 resolution, boo
   }
   return on_screen;
 }
+
+// The material model (brdf.h's BRDF_*) the texel's surface is shaded with.
+GI_FN uint gbuffer_brdf_model(GBufferTexel g) { return uint(g.shading_normal.w); }
 
 GI_SHADER_END
 

@@ -87,7 +87,7 @@ void main() {
 
     g.position_depth = vec4(s.position, depth[index]);
     g.geometric_normal = vec4(s.geometric_normal, 1.0);
-    g.shading_normal = vec4(s.shading_normal, 0.0);
+    g.shading_normal = vec4(s.shading_normal, m.reflectance.y);  // w: the material model (gbuffer.h)
     g.base_color_metallic = m.base_color_metallic;
     g.emissive_roughness = vec4(s.emissive, m.emissive_perceptual_roughness.w);
     vec2 previous;

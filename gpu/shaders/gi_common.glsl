@@ -49,6 +49,7 @@ struct GiPixel {
   float perceptual_roughness;
   float reflectance;
   vec3 diffuse;  // base colour · (1 − metallic)
+  BrdfParams brdf;  // the surface under its material model (brdf.h)
   vec3 target;   // the resampling target's colour at this surface (gi_target_colour)
   vec4 motion;   // xy pixels to the previous frame, z 1 if valid
 };
@@ -69,6 +70,7 @@ GiPixel gi_pixel(uvec2 pixel) {
   d.perceptual_roughness = g.emissive_roughness.a;
   d.reflectance = g.motion_reflectance.w;
   d.diffuse = d.base_color * (1.0 - d.metallic);
+  d.brdf = brdf_params(d.base_color, d.metallic, d.perceptual_roughness, d.reflectance, gbuffer_brdf_model(g));
   d.target = gi_target_colour(d.base_color);
   d.motion = vec4(g.motion_reflectance.xyz, 0.0);
   return d;

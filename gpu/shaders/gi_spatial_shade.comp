@@ -7,7 +7,8 @@
 // - else (Solari 0.17, v0.17.0 :170-171): the neighbour's sample is tested
 //   from this pixel before the merge, and the result is stored.
 // Then diffuse shading, GI = brdf · radiance · W · cos with brdf
-// base·(1 − metallic)/π (GI_SHADING_DIFFUSE, 0.18) or base/π (0.17).
+// Bevy's evaluate_diffuse_brdf under the material model (GI_SHADING_DIFFUSE,
+// 0.18: base·(1 − metallic)/π; 0.19: that, Fresnel-layered) or base/π (0.17).
 // Also writes this pixel's surface for next frame's temporal reuse, and
 // counts non-finite reservoirs and output pixels (GiStats).
 #version 460
@@ -90,7 +91,7 @@ void main() {
     if (shade) {
       vec3 wi = normalize(canonical.sample_position.xyz - d.position);
 #if GI_SHADING_DIFFUSE != 0
-      vec3 brdf = d.diffuse * INV_PI;
+      vec3 brdf = brdf_eval_diffuse(d.brdf, d.ns, d.view, wi);
 #else
       vec3 brdf = d.base_color * INV_PI;
 #endif

@@ -14,6 +14,9 @@
 #extension GL_EXT_ray_query : require
 #endif
 
+#include "gpu/shaders/bindings.h"
+layout(std430, set = 0, binding = BINDING_DFG_LUT) readonly buffer DfgLut { uint dfg_lut_words[]; };
+#define GI_DFG_LUT_WORD(i) dfg_lut_words[i]
 #include "core/shared/brdf.h"
 #include "core/shared/rng.h"
 #include "core/shared/sampling.h"

@@ -45,15 +45,18 @@ void main() {
   vec3 color = vec3(0.0);
   if (d.hit) {
     uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_SPECULAR + chain, index, frame.resolution_frame.z);
-    vec3 f0 = vec3(0.16 * d.reflectance * d.reflectance * (1.0 - d.metallic)) + d.base_color * d.metallic;
-    float alpha = specular_alpha(d.perceptual_roughness, float(SPECULAR_MIN_PERCEPTUAL_ROUGHNESS));
+    // The material model's lobe at this profile's clamp (0: none, NaN at zero roughness).
+    BrdfParams brdf = d.brdf;
+    brdf.alpha = specular_alpha(d.perceptual_roughness, float(SPECULAR_MIN_PERCEPTUAL_ROUGHNESS));
+    brdf.perceptual_roughness = sqrt(brdf.alpha);
+    float alpha = brdf.alpha;
     if (alpha > float(SPECULAR_REUSE_ROUGHNESS)) {
       GiReservoir r = stored_reservoirs[slot];
       if (gi_reservoir_valid(r)) {
         vec3 wi = normalize(r.sample_position.xyz - d.position);
-        color = specular_brdf(f0, alpha, d.ns, d.view, wi) * max(dot(d.ns, wi), 0.0) * r.radiance.rgb * r.radiance.w;
+        color = specular_lobe(brdf, d.ns, d.view, wi) * max(dot(d.ns, wi), 0.0) * r.radiance.rgb * r.radiance.w;
       }
-    } else if (max3(f0) > 0.0) {
+    } else if (brdf_has_specular(brdf)) {
       vec3 wi = to_world(sample_ggx_bounded_vndf(from_world(d.view, d.ns), alpha, rng_next_vec2(rng)), d.ns);
       // DI left this surface's specular lobe, first hit's emission included, to us.
       float first_emission = alpha <= float(SPECULAR_HANDOVER_ALPHA) ? 1.0 : 0.0;
@@ -69,7 +72,7 @@ void main() {
       path_end.path_roughness = alpha;
 #endif
       if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
-        color = specular_sample_weight(f0, alpha, d.ns, d.view, wi) *
+        color = specular_sample_weight(brdf, d.ns, d.view, wi) *
                 trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), path_end, rng);
     }
   }

@@ -1,7 +1,11 @@
 // World cache update, direct light (DESIGN §3 step 5; Solari's
 // sample_irradiance, 1st ray): per active cell, RIS over WORLD_CACHE_DI_SAMPLES
 // light candidates (target: luminance of the unshadowed irradiance), one
-// shadow ray on the winner. Candidates are drawn as the light tiles draw theirs
+// shadow ray on the winner. WORLD_CACHE_TILE_CANDIDATES 1 (Solari): the
+// candidates come from one light tile per workgroup, chosen by the
+// workgroup's index alone (v0.18.0:realtime/world_cache_update.wgsl:74-76),
+// this frame's tiles or, under 0.17's pass order, last frame's
+// (world_cache.light_tiles_frame); 0: drawn afresh as the tiles draw theirs
 // (uniform light, triangle, point) with the tiles' radiance encoding. Also
 // snapshots the cell's life and root frame before any query of this frame
 // changes them (the cache-to-cache queries pass them on). new radiance's w
@@ -14,9 +18,29 @@
 #include "core/shared/light_tiles.h"
 #include "core/shared/reservoir.h"
 #include "core/shared/light_sampling.h"
+#include "core/shared/restir_di.h"
 #include "gpu/shaders/world_cache_common.glsl"
+#include "gpu/shaders/di_bindings.h"
 
 layout(local_size_x = WORLD_CACHE_UPDATE_GROUP) in;
+layout(std430, set = 0, binding = BINDING_LIGHT_TILE_PACKED) readonly buffer TilePacked { PackedLightSample tile_packed[]; };
+
+// Candidate k's resolved sample: from the workgroup's tile (the index into it
+// returned in `index`) or drawn afresh (the sample returned in `drawn`).
+ResolvedLightSample cache_light_candidate(INOUT(uint) rng, OUT(uint) index, OUT(LightSample) drawn) {
+#if WORLD_CACHE_TILE_CANDIDATES != 0
+  uint tile_start = di_workgroup_tile(uvec2(gl_WorkGroupID.x, 0u), uint(WORLD_CACHE_TILE_COUNT)) *
+                    uint(WORLD_CACHE_TILE_SAMPLES);
+  index = tile_start + min(uint(rng_next_float(rng) * float(WORLD_CACHE_TILE_SAMPLES)),
+                           uint(WORLD_CACHE_TILE_SAMPLES) - 1u);
+  drawn.valid = 0u;
+  return unpack_light_sample(tile_packed[index], WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
+#else
+  index = 0u;
+  drawn = generate_light_sample(rng);
+  return resolve_light_sample_encoded(drawn, WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
+#endif
+}
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -43,20 +67,28 @@ void main() {
     // numbers whatever the table size or probing put it.
     uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_WORLD_CACHE_DI, wc_checksums[cell], frame.resolution_frame.z);
     RisStream ris = ris_begin();
-    LightSample chosen;
-    chosen.valid = 0u;
+    bool chosen = false;
+    ResolvedLightSample r;
     for (uint k = 0u; k < uint(WORLD_CACHE_DI_SAMPLES); ++k) {
-      LightSample s = generate_light_sample(rng);
-      ResolvedLightSample r = resolve_light_sample_encoded(s, WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
-      LightContribution c = light_contribution(r, p, n);
+      uint index;
+      LightSample drawn;
+      ResolvedLightSample candidate = cache_light_candidate(rng, index, drawn);
+      LightContribution c = light_contribution(candidate, p, n);
       float target = dot(c.wi, n) > 0.0 ? luminance(c.received_radiance) : 0.0;
       float weight = target * c.inverse_pdf / float(WORLD_CACHE_DI_SAMPLES);
-      if (ris_update(ris, weight, target, rng_next_float(rng))) chosen = s;
+      if (ris_update(ris, weight, target, rng_next_float(rng))) {
+        chosen = true;
+        r = candidate;
+      }
     }
-    if (chosen.valid != 0u) {
-      ResolvedLightSample r = resolve_light_sample_encoded(chosen, WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
-      if (light_sample_visible(p, n, r))
-        irradiance = light_contribution(r, p, n).received_radiance * ris_contribution_weight(ris);
+    if (chosen) {
+      vec3 received = light_contribution(r, p, n).received_radiance;
+#if WORLD_CACHE_DROP_ZERO_CHANNEL != 0
+      // Bevy keeps the sample only if all(radiance != 0) (world_cache_update.wgsl:101 at
+      // v0.18.0): a saturated colour, or a channel rgb9e5 rounds to 0, loses it all.
+      if (any(equal(received, vec3(0.0)))) received = vec3(0.0);
+#endif
+      if (light_sample_visible(p, n, r)) irradiance = received * ris_contribution_weight(ris);
     }
   }
   wc_new_radiance[i] = vec4(irradiance, 0.0);

@@ -9,11 +9,13 @@
 #include "core/metrics.h"
 #include "core/png_preview.h"
 #include "core/reference/reference_cache.h"
+#include "core/profile.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
 #include "replay/checks/reference_check.h"
 #include "replay/cli/commands.h"
 #include "replay/events.h"
+#include "replay/realtime_settings.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 
@@ -21,7 +23,8 @@ namespace gi {
 
 int run_reference_command(const ReferenceCommandOptions& o) {
   const Scenario scenario = load_scenario(o.scenario);
-  const Scene initial = build_scene(scenario);
+  Scene initial = build_scene(scenario);
+  apply_material_model(initial, resolve_profile(scenario));  // as a run of the scenario shades it
   const std::uint32_t frame = o.frame.value_or(scenario.frames - 1);
   if (frame >= scenario.frames)
     throw InputError("--frame", "", fmt::format("expected a frame below the scenario's {} frames", scenario.frames));

@@ -21,6 +21,7 @@
 #include "core/exr_io.h"
 #include "core/metrics.h"
 #include "core/profile.h"
+#include "replay/realtime_settings.h"
 #include "core/reference/embree_reference.h"
 #include "core/reference/reference_cache.h"
 #include "core/scene_builder.h"
@@ -169,7 +170,9 @@ int run_sweep(const SweepOptions& o) {
       ms += stats["median_ms"].is_number() ? stats["median_ms"].get<double>() : std::nan("");
     const Image gpu_image = read_exr(ro.out_dir / capture_images_file(last)).at("");
 
-    const Scene scene = scene_at_frame(build_scene(s), s, last);
+    Scene initial = build_scene(s);
+    apply_material_model(initial, resolve_profile(s));  // the realtime run's material model
+    const Scene scene = scene_at_frame(initial, s, last);
     ReferenceOptions ref_options;
     ref_options.width = s.resolution[0];
     ref_options.height = s.resolution[1];
