@@ -1,6 +1,7 @@
 // Descriptor binding numbers and workgroup sizes, defined once for C++ and
 // GLSL (host_device.h rules). Every pass uses descriptor set 0: the scene
-// bindings (0-6, declared by scene_bindings.glsl) plus its own from 8 up.
+// bindings (0-6 and the DFG table's 14, declared by scene_bindings.glsl)
+// plus its own from 8 up.
 // Binding numbers are unique across passes, so a buffer shared by two passes
 // (the visibility buffer) has one number everywhere.
 #ifndef GI_GPU_SHADERS_BINDINGS_H

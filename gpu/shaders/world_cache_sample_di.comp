@@ -25,20 +25,16 @@
 layout(local_size_x = WORLD_CACHE_UPDATE_GROUP) in;
 layout(std430, set = 0, binding = BINDING_LIGHT_TILE_PACKED) readonly buffer TilePacked { PackedLightSample tile_packed[]; };
 
-// Candidate k's resolved sample: from the workgroup's tile (the index into it
-// returned in `index`) or drawn afresh (the sample returned in `drawn`).
-ResolvedLightSample cache_light_candidate(INOUT(uint) rng, OUT(uint) index, OUT(LightSample) drawn) {
+// One candidate: a uniform pick from the workgroup's tile, which starts at
+// tile_start (WORLD_CACHE_TILE_CANDIDATES), or a sample drawn afresh.
+ResolvedLightSample cache_light_candidate(uint tile_start, INOUT(uint) rng) {
 #if WORLD_CACHE_TILE_CANDIDATES != 0
-  uint tile_start = di_workgroup_tile(uvec2(gl_WorkGroupID.x, 0u), uint(WORLD_CACHE_TILE_COUNT)) *
-                    uint(WORLD_CACHE_TILE_SAMPLES);
-  index = tile_start + min(uint(rng_next_float(rng) * float(WORLD_CACHE_TILE_SAMPLES)),
-                           uint(WORLD_CACHE_TILE_SAMPLES) - 1u);
-  drawn.valid = 0u;
+  uint index = tile_start + min(uint(rng_next_float(rng) * float(WORLD_CACHE_TILE_SAMPLES)),
+                                uint(WORLD_CACHE_TILE_SAMPLES) - 1u);
   return unpack_light_sample(tile_packed[index], WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
 #else
-  index = 0u;
-  drawn = generate_light_sample(rng);
-  return resolve_light_sample_encoded(drawn, WORLD_CACHE_LIGHT_EXPOSURE, WORLD_CACHE_LOG2_RADIANCE != 0);
+  return resolve_light_sample_encoded(generate_light_sample(rng), WORLD_CACHE_LIGHT_EXPOSURE,
+                                      WORLD_CACHE_LOG2_RADIANCE != 0);
 #endif
 }
 
@@ -66,13 +62,17 @@ void main() {
     // Streams keyed by the cell's checksum (its identity), not its slot: the same
     // numbers whatever the table size or probing put it.
     uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_WORLD_CACHE_DI, wc_checksums[cell], frame.resolution_frame.z);
+    // Solari picks the workgroup's tile by the workgroup index alone, once.
+    uint tile_start = 0u;
+#if WORLD_CACHE_TILE_CANDIDATES != 0
+    tile_start = di_workgroup_tile(uvec2(gl_WorkGroupID.x, 0u), uint(WORLD_CACHE_TILE_COUNT)) *
+                 uint(WORLD_CACHE_TILE_SAMPLES);
+#endif
     RisStream ris = ris_begin();
     bool chosen = false;
     ResolvedLightSample r;
     for (uint k = 0u; k < uint(WORLD_CACHE_DI_SAMPLES); ++k) {
-      uint index;
-      LightSample drawn;
-      ResolvedLightSample candidate = cache_light_candidate(rng, index, drawn);
+      ResolvedLightSample candidate = cache_light_candidate(tile_start, rng);
       LightContribution c = light_contribution(candidate, p, n);
       float target = dot(c.wi, n) > 0.0 ? luminance(c.received_radiance) : 0.0;
       float weight = target * c.inverse_pdf / float(WORLD_CACHE_DI_SAMPLES);
