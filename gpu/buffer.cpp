@@ -66,6 +66,8 @@ Buffer::Buffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage, std:
   const bool mapped = memory != BufferMemory::device || !device.staged_buffers();
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = size_;
+  // Every buffer has a device address: the buffer hash (gpu/passes/buffer_hash.h) reads any buffer through it.
+  usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   bci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check_vk(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer");

@@ -324,6 +324,10 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     if (want_ray_query && (!v12.bufferDeviceAddress || !asf.accelerationStructure || !rq.rayQuery))
       throw DeviceError(fmt::format("device {} ({}) lacks bufferDeviceAddress/accelerationStructure/rayQuery",
                                     chosen, info_.name));
+    // The observation passes (gpu/passes/frame_output.h, buffer_hash.h) hash
+    // any buffer through its device address and sum luminance in double.
+    if (!v12.bufferDeviceAddress || !features.features.shaderFloat64)
+      throw DeviceError(fmt::format("device {} ({}) lacks bufferDeviceAddress or shaderFloat64", chosen, info_.name));
 
     VkPhysicalDeviceRayQueryFeaturesKHR rq_on{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
     rq_on.rayQuery = VK_TRUE;
@@ -336,6 +340,7 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     v12_on.pNext = want_ray_query ? &as_on : nullptr;
     VkPhysicalDeviceFeatures2 features_on{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features_on.features.shaderInt64 = features.features.shaderInt64;
+    features_on.features.shaderFloat64 = VK_TRUE;
     features_on.pNext = &v12_on;
 
     float priority = 1.0f;

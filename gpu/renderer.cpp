@@ -39,6 +39,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
                                     geometry.indices.size() * sizeof(std::uint32_t), "indices")),
       frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
       dfg_lut_(make_dfg_lut_buffer(device)),
+      compiler_(compiler),
       timer_(device) {
   if (options.width == 0 || options.height == 0)
     throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));
@@ -92,6 +93,13 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     GiSettings gi = *options_.gi;
     if (gi_queries_cache) gi.world_cache_defines = world_cache_->shader_defines();
     gi_.emplace(device, compiler, gi, options.width, options.height);
+  }
+  if (options_.frame_output) {
+    if (!di_ && !options_.reference) throw DeviceError("Renderer: the frame output needs realtime DI or the reference");
+    const FrameOutput::Mode mode = !di_ ? FrameOutput::Mode::reference
+                                   : gi_ ? FrameOutput::Mode::di_gi
+                                         : FrameOutput::Mode::di;
+    frame_output_.emplace(device, compiler, options.width, options.height, mode);
   }
 }
 
@@ -158,6 +166,11 @@ void Renderer::bind_passes() {
   if (di_) di_->bind(scene, gbuffer_);
   if (world_cache_) world_cache_->bind(scene, gbuffer_, di_ ? &di_->tile_packed() : nullptr);
   if (gi_) gi_->bind(scene, gbuffer_, world_cache_ ? &*world_cache_ : nullptr);
+  if (frame_output_) {
+    if (di_) frame_output_->bind(di_->output_buffer(), gi_ ? &gi_->output_buffer() : nullptr,
+                                 gi_ ? &gi_->specular_output_buffer() : nullptr);
+    else frame_output_->bind(reference_a_, &reference_b_, nullptr);
+  }
   bindings_dirty_ = false;
 }
 
@@ -198,8 +211,27 @@ void Renderer::render_frame(const FrameConstants& frame) {
       if (world_cache_) world_cache_->record(cmd, timer_);
       if (gi_) gi_->record(cmd, timer_, /*accumulate=*/true, frame.resolution_frame.z, frame.resolution_frame.w);
     }
+    if (frame_output_) frame_output_->record(cmd, timer_);
+    // The small results read after every frame, copied for the host in this submission.
+    if (world_cache_) world_cache_->record_readbacks(cmd);
+    if (gi_) gi_->record_readbacks(cmd);
   });
   timer_.resolve();
+}
+
+FrameOutput& Renderer::frame_output() {
+  require(frame_output_.has_value(), "the frame output (RendererOptions::frame_output)");
+  return *frame_output_;
+}
+
+const FrameOutput& Renderer::frame_output() const {
+  require(frame_output_.has_value(), "the frame output (RendererOptions::frame_output)");
+  return *frame_output_;
+}
+
+std::vector<std::string> Renderer::hash_buffers(const std::vector<HashRange>& ranges) {
+  if (!state_hash_) state_hash_.emplace(device_, compiler_);
+  return state_hash_->hash_now(ranges);
 }
 
 void Renderer::require(bool enabled, const char* what) const {

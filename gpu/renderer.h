@@ -25,7 +25,9 @@
 #include "gpu/acceleration_structures.h"
 #include "gpu/buffer.h"
 #include "gpu/bvh_buffers.h"
+#include "gpu/passes/buffer_hash.h"
 #include "gpu/passes/di_pipeline.h"
+#include "gpu/passes/frame_output.h"
 #include "gpu/passes/gbuffer_resolve.h"
 #include "gpu/passes/gi_pipeline.h"
 #include "gpu/passes/primary_visibility.h"
@@ -46,6 +48,9 @@ struct RendererOptions {
   std::optional<DiSettings> di;  // realtime mode: light tiles + ReSTIR DI (needs gbuffer)
   std::optional<WorldCacheSettings> world_cache;  // the world cache and its cache view (needs gbuffer)
   std::optional<GiSettings> gi;  // ReSTIR GI + specular GI (needs di: the output is DI + GI + specular)
+  // The output and the frame record's measures made on the GPU each frame
+  // (gpu/passes/frame_output.h; needs di or reference): what the frame loop reads.
+  bool frame_output = false;
 };
 
 class Renderer {
@@ -79,6 +84,11 @@ class Renderer {
   // ReSTIR GI and specular GI (RendererOptions::gi).
   const GiPipeline& gi() const;
   bool has_gi() const { return gi_.has_value(); }
+  // RendererOptions::frame_output: this frame's output image and measures.
+  FrameOutput& frame_output();
+  const FrameOutput& frame_output() const;
+  // Hashes of buffer ranges on the GPU, one submission (between frames).
+  std::vector<std::string> hash_buffers(const std::vector<HashRange>& ranges);
   Image cache_view() const { return world_cache().view(); }
   // The realtime output of one chain: DI, plus GI and specular when GI runs;
   // this frame's, or the temporal mean over the accumulation window.
@@ -145,6 +155,9 @@ class Renderer {
   std::optional<DiPipeline> di_;
   std::optional<WorldCache> world_cache_;
   std::optional<GiPipeline> gi_;
+  std::optional<FrameOutput> frame_output_;
+  std::optional<BufferHash> state_hash_;  // made on the first hash_buffers
+  ShaderCompiler& compiler_;
   GpuTimer timer_;
   // Packed visibility IDs: per-mesh clusters, the table the passes read.
   std::vector<MeshRange> mesh_ranges_;

@@ -13,6 +13,7 @@
 #include "core/exr_io.h"
 #include "core/npy.h"
 #include "core/png_preview.h"
+#include "core/shared/word_hash.h"
 #include "gpu/renderer.h"
 
 namespace gi {
@@ -58,9 +59,7 @@ std::filesystem::path capture_folder(std::uint32_t frame) { return fmt::format("
 
 std::filesystem::path capture_images_file(std::uint32_t frame) { return capture_folder(frame) / "images.exr"; }
 
-std::string bytes_hash(const void* data, std::size_t bytes) {
-  return fmt::format("{:016x}", XXH3_64bits(data, bytes));
-}
+std::string bytes_hash(const void* data, std::size_t bytes) { return shader::word_hash_bytes(data, bytes); }
 
 std::string scene_hash(const FlatInstances& scene) {
   XXH3_state_t* state = XXH3_createState();
@@ -83,12 +82,12 @@ std::size_t state_bytes(const gpu::StateBuffer& b) {
   return static_cast<std::size_t>(n);
 }
 
-nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state) {
+nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, gpu::Renderer& renderer) {
+  std::vector<gpu::HashRange> ranges;
+  for (const gpu::StateBuffer& b : state) ranges.push_back({b.buffer, state_bytes(b)});
+  const std::vector<std::string> hashes = renderer.hash_buffers(ranges);
   nlohmann::json buffers = nlohmann::json::array();
-  for (const gpu::StateBuffer& b : state) {
-    const std::vector<std::uint8_t> bytes = read_state_bytes(b);
-    buffers.push_back({b.name, bytes_hash(bytes.data(), bytes.size())});
-  }
+  for (std::size_t i = 0; i < state.size(); ++i) buffers.push_back({state[i].name, hashes[i]});
   return {{"frame", frame}, {"buffers", buffers}};
 }
 

@@ -3,7 +3,7 @@
 //   <out>/captures/frame_00060/
 //     manifest.json      the run (scenario document, frame, frames, seed, profile, --set values,
 //                        backend, device, driver), the loop's state, the passes' host state,
-//                        and every buffer: file, dtype, shape, layout, XXH3 hash of its bytes
+//                        and every buffer: file, dtype, shape, layout, hash of its bytes (bytes_hash)
 //     images.exr         multi-layer: output (R,G,B), di/half_a/half_b, albedo, normal, depth, motion
 //     images.png         preview of the output
 //     <buffer>.npy       every buffer Renderer::list_state gives ("di/stored_reservoirs" →
@@ -40,15 +40,18 @@ std::filesystem::path capture_folder(std::uint32_t frame);
 // The capture's images relative to a run's out dir: "captures/frame_00060/images.exr".
 std::filesystem::path capture_images_file(std::uint32_t frame);
 
-// XXH3-64 of the bytes, 16 hex digits: the hash in manifests and hash logs.
+// The harness's buffer hash of the bytes, 16 hex digits (core/shared/word_hash.h):
+// the hash in manifests and hash logs, equal to the GPU's for the same bytes
+// (gpu/passes/buffer_hash.h), so a captured buffer's file checks against the run's log.
 std::string bytes_hash(const void* data, std::size_t bytes);
 // Bytes of a listed buffer that its dtype and shape cover.
 std::size_t state_bytes(const gpu::StateBuffer& b);
 // Hash of the scene as uploaded (instances, materials, lights): a replay
 // re-derives the scene from the events and checks it against the manifest's.
 std::string scene_hash(const FlatInstances& scene);
-// {"frame": f, "buffers": [[name, hash], …]} in list order.
-nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state);
+// {"frame": f, "buffers": [[name, hash], …]} in list order, hashed on the GPU
+// (nothing read back).
+nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, gpu::Renderer& renderer);
 
 // Writes the folder `dir`. `manifest` holds the run's fields (run_scenario
 // fills them); buffers, host state and images are added here. manifest.json

@@ -1,5 +1,7 @@
 #include "replay/frame_loop.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -44,7 +46,7 @@ void FrameLoop::build_renderer() {
 nlohmann::json FrameLoop::state_hashes(std::uint32_t frame) {
   gpu::StateList state;
   renderer_->list_state(state);
-  return hash_record(frame, state);
+  return hash_record(frame, state, *renderer_);
 }
 
 // Replay: the scene at the captured frame (events are a pure function of the
@@ -102,43 +104,24 @@ void FrameLoop::apply_frame_events(std::uint32_t frame) {
     window_start_ = frame;
   }
   // The temporal noise window: the second half of the run, restarted by any change.
-  const std::uint32_t noise_start = std::max(first_frame_, setup_.frames / 2);
-  if (setup_.realtime && (frame == noise_start || (changes.any() && frame > noise_start)))
+  if (setup_.realtime && (frame == noise_start() || (changes.any() && frame > noise_start()))) {
     temporal_noise_.restart(frame);
+    renderer_->frame_output().restart_noise();
+  }
 }
 
-// Reads back this frame's output (realtime: chain A's signals, once) and
-// what the record and the checks need; returns the frame's record.
+// The frame's record from the measures the GPU reduced (a few mapped bytes);
+// the output image is read back only if a check asks for it this frame.
 nlohmann::json FrameLoop::measure(std::uint32_t frame, FrameData& data) {
   nlohmann::json timings = nlohmann::json::object();
   for (const auto& t : renderer_->last_timings()) timings[t.name] = json_figure(t.ms);
-  nlohmann::json signal_luminance = nullptr;
-  if (setup_.realtime) {
-    di_ = renderer_->di().frame(0);
-    output_ = di_;
-    signal_luminance = {{"di", json_figure(mean_luminance(di_))}};
-    if (setup_.gi) {
-      gi_ = renderer_->gi().gi_frame(0);
-      specular_ = renderer_->gi().specular_frame(0);
-      data.gi_luminance = mean_luminance(gi_);
-      signal_luminance["gi"] = json_figure(data.gi_luminance);
-      signal_luminance["specular"] = json_figure(mean_luminance(specular_));
-      output_ = sum_images(sum_images(output_, gi_), specular_);
-    }
-    if (frame >= std::max(first_frame_, setup_.frames / 2)) {
-      std::map<std::string, const Image*> signals = {{"output", &output_}, {"di", &di_}};
-      if (setup_.gi) {
-        signals["gi"] = &gi_;
-        signals["specular"] = &specular_;
-      }
-      temporal_noise_.add(signals);
-    }
-  } else {
-    output_ = renderer_->reference_mean();
-  }
-  data.output = &output_;
-  data.output_luminance = mean_luminance(output_);
-  data.nonfinite_pixels = count_nonfinite(output_);
+  const gpu::FrameMeasures m = renderer_->frame_output().measures();
+  output_read_ = false;
+  data.read_output = [this]() -> const Image& { return read_output(); };
+  data.output_luminance = m.output_luminance;
+  data.nonfinite_pixels = m.nonfinite_components;
+  data.gi_luminance = m.gi_luminance;
+  frame_image_hashes_.push_back(m.image_hash);
   nlohmann::json record = {{"frame", frame},
                            {"window_start", window_start_},
                            {"window_samples", window_samples_},
@@ -146,8 +129,20 @@ nlohmann::json FrameLoop::measure(std::uint32_t frame, FrameData& data) {
                            {"nonfinite_pixels", data.nonfinite_pixels},
                            {"nonfinite_samples", setup_.realtime ? 0 : renderer_->reference_nonfinite_samples()},
                            {"pass_ms", timings}};
-  if (setup_.realtime) record["signal_mean_luminance"] = signal_luminance;
+  if (setup_.realtime) {
+    record["signal_mean_luminance"] = {{"di", json_figure(m.di_luminance)}};
+    if (setup_.gi) {
+      record["signal_mean_luminance"]["gi"] = json_figure(m.gi_luminance);
+      record["signal_mean_luminance"]["specular"] = json_figure(m.specular_luminance);
+    }
+  }
   return record;
+}
+
+const Image& FrameLoop::read_output() {
+  if (!output_read_) output_ = renderer_->frame_output().image();
+  output_read_ = true;
+  return output_;
 }
 
 void FrameLoop::run() {
@@ -155,10 +150,14 @@ void FrameLoop::run() {
   std::optional<gpu::GiFrameStats> gi_stats;
   std::optional<gpu::WorldCacheFrameStats> cache_stats;
   for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
+    const auto started = std::chrono::steady_clock::now();
     inject_test_fault(scenario_.name, frame);
     const gpu::Device::TransferCounts transfers_before = device_.transfers();
     apply_frame_events(frame);
     const GpuCamera camera = make_gpu_camera(scene_.camera, width, height);
+    const bool noise_frame = setup_.realtime && frame >= noise_start();
+    if (setup_.realtime) renderer_->frame_output().set_accumulate_noise(noise_frame);
+    if (noise_frame) temporal_noise_.count_frame();
     renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
                                             frame, setup_.seed, scenario_.samples_per_frame));
     previous_camera_ = camera;
@@ -199,7 +198,6 @@ void FrameLoop::run() {
       if (!needs.frames || needs.frames->count(frame))
         setup_.checks[i]->observe(FrameView(data, needs.reads), record);
     }
-    frame_image_hashes_.push_back(bytes_hash(output_.pixels.data(), output_.pixels.size() * sizeof(glm::vec3)));
     // What observing this frame moved (the frame record's and the checks'
     // readbacks, scene updates); state hashes and captures come after.
     const gpu::Device::TransferCounts& now = device_.transfers();
@@ -208,6 +206,7 @@ void FrameLoop::run() {
                            {"uploaded_bytes", now.uploaded - transfers_before.uploaded}};
     frame_log_.add(record);
     const bool last = frame + 1 == setup_.frames;
+    if (last) read_output();  // the run's final image (summary, baseline)
     if (hash_log_ || last) {
       const nlohmann::json hashes = state_hashes(frame);
       if (hash_log_) hash_log_->add(hashes);
@@ -217,6 +216,7 @@ void FrameLoop::run() {
     if (setup_.captures.count(frame)) capture(frame);
     if (!options_.quiet && (frame + 1) % 16 == 0)
       spdlog::info("{}: frame {}/{}", scenario_.name, frame + 1, setup_.frames);
+    frame_wall_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
   }
   if (setup_.realtime) {
     noise_ = {{"chain", renderer_->di().settings().chains >= 2 ? chain_noise_figures(setup_.frames - 1)
@@ -226,7 +226,7 @@ void FrameLoop::run() {
                           {"method", "per-pixel variance of chain A's signal over the frames of the window (the "
                                      "run's second half, restarted by scene changes) / (m^2 + 0.01), averaged; "
                                      "includes the world cache's own fluctuation, which the chain figures cancel"},
-                          {"signals", temporal_noise_.figures()}};
+                          {"signals", temporal_noise_.figures(renderer_->frame_output().noise_sums())}};
   }
   if (hash_log_) {
     hash_log_->finish();
@@ -268,14 +268,19 @@ void FrameLoop::capture(std::uint32_t frame) {
   // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
   const Image a = setup_.realtime ? r.realtime_frame(0) : r.reference_half(0);
   const Image b = setup_.realtime ? r.realtime_frame(r.di().settings().chains - 1) : r.reference_half(1);
+  // Chain A's signals, read back for the capture only.
+  read_output();
+  const Image di = setup_.realtime ? r.di().frame(0) : Image();
+  const Image gi = setup_.gi ? r.gi().gi_frame(0) : Image();
+  const Image specular = setup_.gi ? r.gi().specular_frame(0) : Image();
   std::vector<Image> layers;
   const std::vector<std::string> names = {"albedo", "normal", "depth", "motion"};
   for (const std::string& n : names) layers.push_back(r.gbuffer_layer(n));
   std::vector<std::pair<std::string, const Image*>> exr = {{"", &output_}, {"half_a", &a}, {"half_b", &b}};
-  if (setup_.realtime) exr.emplace_back("di", &di_);
+  if (setup_.realtime) exr.emplace_back("di", &di);
   if (setup_.gi) {
-    exr.emplace_back("gi", &gi_);
-    exr.emplace_back("specular", &specular_);
+    exr.emplace_back("gi", &gi);
+    exr.emplace_back("specular", &specular);
   }
   const Image cache_view_layer = scenario_.cache_view ? r.cache_view() : Image();
   if (scenario_.cache_view) exr.emplace_back("cache_view", &cache_view_layer);

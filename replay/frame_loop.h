@@ -31,7 +31,7 @@ class FrameLoop {
   void run();
 
   std::uint32_t first_frame() const { return first_frame_; }
-  const Image& last_output() const { return output_; }
+  const Image& last_output() const { return output_; }  // after run(): the last frame's
   const gpu::Renderer& renderer() const { return *renderer_; }
   std::size_t light_count() const { return flat_.lights.size(); }
   FrameLog& frame_log() { return frame_log_; }
@@ -43,6 +43,9 @@ class FrameLoop {
   // hash per frame (from first_frame()), and every state buffer's hash after
   // the last frame (one readback of the state, at the end only).
   const std::vector<std::string>& frame_image_hashes() const { return frame_image_hashes_; }
+  // Host wall time of each frame's whole iteration (events, rendering, record,
+  // checks, hashes, captures), ms: what observing costs beside the GPU time.
+  const std::vector<double>& frame_wall_ms() const { return frame_wall_ms_; }
   const nlohmann::json& final_state_hashes() const { return final_state_hashes_; }
 
  private:
@@ -50,6 +53,8 @@ class FrameLoop {
   void resume();
   void apply_frame_events(std::uint32_t frame);
   nlohmann::json measure(std::uint32_t frame, FrameData& data);
+  const Image& read_output();  // this frame's output image, read back once
+  std::uint32_t noise_start() const { return std::max(first_frame_, setup_.frames / 2); }
   void capture(std::uint32_t frame);
   nlohmann::json chain_noise_figures(std::uint32_t frame) const;
   nlohmann::json state_hashes(std::uint32_t frame);
@@ -70,8 +75,8 @@ class FrameLoop {
   std::uint32_t static_start_ = 0;  // last frame the scene changed
   std::uint32_t first_frame_ = 0;
   GpuCamera previous_camera_{};
-  Image output_;                    // this frame's output
-  Image di_, gi_, specular_;        // realtime: chain A's signals this frame
+  Image output_;                    // this frame's output, when read back (output_read_)
+  bool output_read_ = false;
 
   FrameLog frame_log_;
   std::optional<FrameLog> hash_log_;
@@ -79,6 +84,7 @@ class FrameLoop {
   nlohmann::json noise_ = nullptr;
   std::vector<std::uint32_t> captured_frames_;
   std::vector<std::string> frame_image_hashes_;
+  std::vector<double> frame_wall_ms_;
   nlohmann::json final_state_hashes_ = nlohmann::json::object();
 };
 

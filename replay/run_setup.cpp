@@ -80,6 +80,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   // the determinism check) always list the same buffers, G-buffer included.
   r.gbuffer = realtime || gbuffer || !captures.empty() || record_hashes;
   r.reference = !realtime;
+  r.frame_output = true;
   const std::uint32_t chains = two_chains ? 2u : 1u;
   if (realtime) {
     r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,

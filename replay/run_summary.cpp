@@ -2,9 +2,9 @@
 
 #include <map>
 
-
 #include "core/atomic_file.h"
 #include "core/exr_io.h"
+#include "core/shared/word_hash.h"
 #include "reports/change.h"
 #include "replay/capture.h"
 #include "reports/json_figures.h"
@@ -15,13 +15,27 @@ namespace {
 
 // Timing statistics over the kept records: every frame up to the log's
 // capacity, a regular subsample of longer runs (frames_log says which).
-void add_frames(FrameLog& log, nlohmann::json& s) {
+// Beside the passes: each frame's GPU pass sum and its host wall time, and
+// the ratio of their medians (issue 16's "wall ≤ 1.25× the GPU pass sum").
+void add_frames(FrameLog& log, const std::vector<double>& frame_wall_ms, nlohmann::json& s) {
   const nlohmann::json kept = log.kept();
   std::map<std::string, std::vector<double>> pass_ms;
-  for (const nlohmann::json& f : kept)
+  std::vector<double> pass_sum_ms;
+  for (const nlohmann::json& f : kept) {
+    double sum = 0;
     for (const auto& [name, ms] : f["pass_ms"].items())
-      if (ms.is_number()) pass_ms[name].push_back(ms.get<double>());
+      if (ms.is_number()) pass_ms[name].push_back(ms.get<double>()), sum += ms.get<double>();
+    pass_sum_ms.push_back(sum);
+  }
   s["timings"] = timing_summary(pass_ms);
+  if (!pass_sum_ms.empty() && !frame_wall_ms.empty()) {
+    const double gpu = percentile(pass_sum_ms, 0.5), wall = percentile(frame_wall_ms, 0.5);
+    s["timings"]["frame"] = {{"gpu_pass_sum_median_ms", json_figure(gpu)},
+                             {"wall_median_ms", json_figure(wall)},
+                             {"wall_p95_ms", json_figure(percentile(frame_wall_ms, 0.95))},
+                             {"wall_over_gpu", json_figure(gpu > 0 ? wall / gpu : 0.0)},
+                             {"frames", frame_wall_ms.size()}};
+  }
   s["frames"] = kept;
   log.finish();
   s["frames_log"] = {{"file", "frames.jsonl"}, {"records", log.count()}, {"kept_every", log.stride()}};
@@ -57,14 +71,15 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   s["verdict"] = result.exit_code == 0 ? "pass" : "fail";
   s["exit_code"] = result.exit_code;
   s["checks"] = checks;
-  add_frames(run.loop.frame_log(), s);
+  add_frames(run.loop.frame_log(), run.loop.frame_wall_ms(), s);
   const Image& last = run.loop.last_output();
   s["final_image_hash"] = bytes_hash(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
   // What a baseline keeps to report any change exactly (reports/change.h):
   // the image hash per frame, every state buffer's hash after the last frame,
   // and the final image (half-float EXR: a baseline stores it, and the
   // comparison then reads both sides at the same precision).
-  s["hashes"] = {{"first_frame", run.loop.first_frame()},
+  s["hashes"] = {{"scheme", shader::WORD_HASH_SCHEME},
+                 {"first_frame", run.loop.first_frame()},
                  {"frame_images", run.loop.frame_image_hashes()},
                  {"final_buffers", run.loop.final_state_hashes()}};
   write_exr(run.options.out_dir / kFinalImageFile, {{"", &last}}, ExrPixels::half);

@@ -8,33 +8,16 @@
 namespace gi {
 
 void TemporalNoise::restart(std::uint32_t frame) {
-  sums_.clear();
   count_ = 0;
   first_ = frame;
 }
 
-void TemporalNoise::add(const std::map<std::string, const Image*>& signals) {
-  for (const auto& [name, image] : signals) {
-    Sums& s = sums_[name];
-    if (s.sum.empty()) {
-      s.sum.assign(image->size(), glm::dvec3(0.0));
-      s.sum_sq.assign(image->size(), glm::dvec3(0.0));
-    }
-    for (std::size_t i = 0; i < image->size(); ++i) {
-      const glm::dvec3 x(image->pixels[i]);
-      s.sum[i] += x;
-      s.sum_sq[i] += x * x;
-    }
-  }
-  ++count_;
-}
-
-nlohmann::json TemporalNoise::figures() const {
+nlohmann::json TemporalNoise::figures(const std::map<std::string, gpu::NoiseSums>& sums) const {
   nlohmann::json out = nlohmann::json::object();
-  const auto output = sums_.find("output");
-  if (count_ < 8 || output == sums_.end()) return out;
+  const auto output = sums.find("output");
+  if (count_ < 8 || output == sums.end()) return out;
   const double n = double(count_);
-  for (const auto& [name, s] : sums_) {
+  for (const auto& [name, s] : sums) {
     double total = 0;
     std::size_t values = 0;
     for (std::size_t i = 0; i < s.sum.size(); ++i) {

@@ -25,26 +25,25 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/image.h"
+#include "gpu/passes/frame_output.h"
 
 namespace gi {
 
+// The window's bookkeeping; the per-pixel sums of chain A's signals are
+// kept on the GPU (gpu/passes/frame_output.h) and read back once, at the end.
 class TemporalNoise {
  public:
-  // Starts (or restarts) the window at `frame`: sums cleared.
+  // Starts (or restarts) the window at `frame` (the caller zeroes the sums).
   void restart(std::uint32_t frame);
-  // Adds chain A's signals of one frame; "output" must be among them.
-  void add(const std::map<std::string, const Image*>& signals);
+  // One more frame added to the sums.
+  void count_frame() { ++count_; }
   std::uint32_t frames() const { return count_; }
   std::uint32_t first_frame() const { return first_; }
-  // {signal: figure}; empty with fewer than 8 frames.
-  nlohmann::json figures() const;
+  // {signal: figure} from the window's sums; "output" must be among them.
+  // Empty with fewer than 8 frames.
+  nlohmann::json figures(const std::map<std::string, gpu::NoiseSums>& sums) const;
 
  private:
-  struct Sums {
-    std::vector<glm::dvec3> sum, sum_sq;
-  };
-  std::map<std::string, Sums> sums_;
   std::uint32_t count_ = 0;
   std::uint32_t first_ = 0;
 };

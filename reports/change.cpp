@@ -117,6 +117,13 @@ nlohmann::json detect_change(const ChangeInputs& in) {
   if (!base.contains("hashes"))
     return {{"status", "no_exact_baseline"},
             {"reason", "the baseline keeps no hashes (written before change detection; run `baseline update`)"}};
+  // Before the GPU computed them (issue 16), hashes were XXH3-64 of the same bytes.
+  const std::string base_scheme = base["hashes"].value("scheme", "xxh3-64");
+  const std::string run_scheme = s["hashes"].value("scheme", "xxh3-64");
+  if (base_scheme != run_scheme)
+    return {{"status", "no_exact_baseline"},
+            {"reason", fmt::format("the baseline's hashes are {}, this run's {} (run `baseline update`)", base_scheme,
+                                   run_scheme)}};
   const std::string mismatch = exactness_mismatch(base.value("device", nlohmann::json::object()),
                                                   s.value("device", nlohmann::json::object()));
   if (!mismatch.empty()) return {{"status", "no_exact_baseline"}, {"reason", mismatch}};

@@ -6,7 +6,6 @@
 #include "reports/json_figures.h"
 
 namespace gi {
-namespace {
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
@@ -16,8 +15,6 @@ double percentile(std::vector<double> v, double p) {
   const std::size_t hi = std::min(lo + 1, v.size() - 1);
   return v[lo] + (v[hi] - v[lo]) * (pos - static_cast<double>(lo));
 }
-
-}  // namespace
 
 nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms) {
   nlohmann::json passes = nlohmann::json::object();

@@ -9,6 +9,9 @@
 
 namespace gi {
 
+// The p-quantile (0..1) of v, linearly interpolated; 0 for none.
+double percentile(std::vector<double> v, double p);
+
 // Per pass: frames, mean, median, p95, min, max (ms), plus the total of the
 // means (ms/frame of the recorded passes).
 nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms);

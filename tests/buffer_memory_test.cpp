@@ -98,10 +98,11 @@ TEST(BufferMemory, AStagedRunHasTheMappedRunsBits) {
   EXPECT_EQ(summaries[0]["final_image_hash"], summaries[1]["final_image_hash"]);
 }
 
-// Observation reads back only what is judged: a realtime reference check
-// judging frame 12 alone reads both chains' temporal means on frame 12 and
-// nothing beyond the frame record's own readback on every other frame
-// (summary.json's per-frame "transfers", counted by the device).
+// Observation reads back only what is judged (issue 16): the frame record's
+// measures are reduced on the GPU (gpu/passes/frame_output.h), so a frame no
+// check judges downloads a few dozen bytes; a realtime reference check judging
+// frame 12 alone reads both chains' temporal means on frame 12 and nothing on
+// the others (summary.json's per-frame "transfers", counted by the device).
 TEST(BufferMemory, ACheckJudgingOneFrameReadsBackOnlyOnThatFrame) {
   test::TempDir dir("buffer-memory-judged");
   nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/di_cornell_box.json");
@@ -118,8 +119,8 @@ TEST(BufferMemory, ACheckJudgingOneFrameReadsBackOnlyOnThatFrame) {
   ASSERT_EQ(frames.size(), 16u);
   const std::uint64_t image = 64u * 36u * 16u;  // one chain's DI signal, vec4 per pixel
   const std::uint64_t base = frames[1]["transfers"]["downloaded_bytes"];
-  EXPECT_GE(base, image);
-  EXPECT_LT(base, image + 4096) << "more than the frame's output and small statistics";
+  EXPECT_GT(base, 0u);
+  EXPECT_LE(base, 256u) << "more than the frame's reduced measures";
   for (const nlohmann::json& f : frames) {
     const std::uint64_t bytes = f["transfers"]["downloaded_bytes"];
     if (f["frame"] == 12) EXPECT_GE(bytes, base + 2 * image) << "frame 12 reads both chains' means";

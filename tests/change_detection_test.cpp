@@ -139,7 +139,7 @@ nlohmann::json summary_with(const nlohmann::json& dev, const std::string& image_
           {"resolved", {{"backend", "bvh"}}},
           {"final_image_hash", image_hash},
           {"final_image", kFinalImageFile},
-          {"hashes", {{"first_frame", 0}, {"frame_images", {"a", "b", image_hash}}, {"final_buffers", {{"di/output", buffer_hash}}}}}};
+          {"hashes", {{"scheme", "gi-word-hash-v1"}, {"first_frame", 0}, {"frame_images", {"a", "b", image_hash}}, {"final_buffers", {{"di/output", buffer_hash}}}}}};
 }
 
 TEST(ChangeDetectionUnit, ImageDifferenceMeasuresOnlyWhatDiffers) {
@@ -184,6 +184,14 @@ TEST(ChangeDetectionUnit, OnlyAnExactBaselineJudgesBits) {
   cpu_only.baseline = summary_with(device("Mesa 25.0.7"), "c", "x");
   cpu_only.summary.erase("hashes");
   EXPECT_NE(detect_change(cpu_only)["reason"].get<std::string>().find("records no image"), std::string::npos);
+
+  // Hashes of another scheme (XXH3 before issue 16 moved hashing to the GPU).
+  base = summary_with(device("Mesa 25.0.7"), "c", "x");
+  base["hashes"]["scheme"] = "xxh3-64";
+  in.baseline = base;
+  c = detect_change(in);
+  EXPECT_EQ(c["status"], "no_exact_baseline");
+  EXPECT_NE(c["reason"].get<std::string>().find("xxh3-64"), std::string::npos) << c.dump();
 
   in.baseline = summary_with(device("Mesa 25.0.7"), "c", "x");
   EXPECT_EQ(detect_change(in)["status"], "unchanged");

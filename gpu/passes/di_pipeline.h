@@ -32,6 +32,7 @@ class DiPipeline {
   void bind(const SceneResources& scene, const Buffer& gbuffer);
   // The packed light tiles (chain 0 first), which the world cache's update reads.
   const Buffer& tile_packed() const { return tile_packed_; }
+  const Buffer& output_buffer() const { return output_; }  // vec4 per pixel, chain-major
   // Records the three passes, each timed ("light_tiles", "di_initial_temporal",
   // "di_spatial_shade"), with barriers. accumulate: add this frame to the sums.
   void record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate);

@@ -34,7 +34,8 @@ GiPipeline::GiPipeline(Device& device, ShaderCompiler& compiler, const GiSetting
       history_(device, (s.temporal_history_pre_spatial ? s.chains * pixels() : 1) * sizeof(GiReservoir), kStorage,
                "GI history reservoirs"),
       initial_temporal_(device, compiler, s),
-      spatial_shade_(device, compiler, s) {
+      spatial_shade_(device, compiler, s),
+      stats_host_(device, stats_) {
   if (s.specular) specular_.emplace(device, compiler, s);
   for (Buffer* b : {&stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
                     &specular_accumulation_, &history_})
@@ -101,7 +102,7 @@ Image GiPipeline::specular_frame(std::uint32_t chain) const { return channel(spe
 Image GiPipeline::specular_mean(std::uint32_t chain) const { return channel(specular_accumulation_, chain, true); }
 
 GiFrameStats GiPipeline::stats() const {
-  const GiStats s = stats_.download<GiStats>(1)[0];
+  const GiStats s = stats_host_.read<GiStats>(1)[0];
   GiFrameStats f;
   f.merges = s.merges;
   f.rejections = s.rejections;

@@ -10,6 +10,7 @@
 
 #include "core/image.h"
 #include "gpu/buffer.h"
+#include "gpu/host_mirror.h"
 #include "gpu/passes/restir_gi.h"
 #include "gpu/passes/specular_gi.h"
 #include "gpu/passes/world_cache.h"
@@ -33,6 +34,9 @@ class GiPipeline {
 
   // world_cache: the cache the passes query (settings.queries_world_cache()).
   void bind(const SceneResources& scene, const Buffer& gbuffer, const WorldCache* world_cache = nullptr);
+  // This frame's GI and specular signals: vec4 per pixel, chain-major.
+  const Buffer& output_buffer() const { return output_; }
+  const Buffer& specular_output_buffer() const { return specular_output_; }
   // Records gi_initial_temporal, gi_spatial_shade and (settings.specular)
   // specular_gi, each timed, with barriers. Zeroes the statistics first.
   void record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate, std::uint32_t frame_index, std::uint32_t seed);
@@ -42,7 +46,10 @@ class GiPipeline {
   Image gi_mean(std::uint32_t chain) const;
   Image specular_frame(std::uint32_t chain) const;  // zeros when specular is off
   Image specular_mean(std::uint32_t chain) const;
+  // The statistics as record_readbacks copied them (the end of the frame).
   GiFrameStats stats() const;
+  // At the end of the frame's command buffer: the statistics' copy for the host.
+  void record_readbacks(VkCommandBuffer cmd) const { stats_host_.record_copy(cmd); }
   const GiSettings& settings() const { return settings_; }
 
   void list_state(StateList& out);
@@ -60,6 +67,7 @@ class GiPipeline {
   GiInitialTemporal initial_temporal_;
   GiSpatialShade spatial_shade_;
   std::optional<SpecularGi> specular_;
+  HostMirror stats_host_;
   bool history_valid_ = false;
 };
 

@@ -150,7 +150,9 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
       pending_args_(make_pass(device, compiler, "world_cache_pending_args", settings.defines(pending_capacity_))),
       commit_(make_pass(device, compiler, "world_cache_commit", settings.defines(pending_capacity_))),
       blend_(make_pass(device, compiler, "world_cache_blend", settings.defines(pending_capacity_))),
-      stats_pass_(make_pass(device, compiler, "world_cache_stats", settings.defines(pending_capacity_))) {
+      stats_pass_(make_pass(device, compiler, "world_cache_stats", settings.defines(pending_capacity_))),
+      counters_host_(device, counters_),
+      stats_host_(device, stats_) {
   if (settings.view)
     query_pixels_.emplace(make_pass(device, compiler, "world_cache_query_pixels", settings.defines(pending_capacity_)));
   for (Buffer* b : {&checksums_, &life_, &radiance_, &delta_, &geometry_, &root_frame_, &claims_, &active_,
@@ -276,10 +278,15 @@ void WorldCache::record_stats(VkCommandBuffer cmd, GpuTimer& timer) {
   indirect_barrier(cmd);
 }
 
+void WorldCache::record_readbacks(VkCommandBuffer cmd) const {
+  counters_host_.record_copy(cmd);
+  stats_host_.record_copy(cmd);
+}
+
 WorldCacheFrameStats WorldCache::stats() const {
   if (!settings_.stats) throw DeviceError("WorldCache::stats: the statistics pass is off (WorldCacheSettings::stats)");
-  const WorldCacheCounters c = counters_.download<WorldCacheCounters>(1)[0];
-  const WorldCacheStats s = stats_.download<WorldCacheStats>(1)[0];
+  const WorldCacheCounters c = counters_host_.read<WorldCacheCounters>(1)[0];
+  const WorldCacheStats s = stats_host_.read<WorldCacheStats>(1)[0];
   WorldCacheFrameStats f;
   f.active_cells = c.active_args.w;
   f.live_cells = s.live_cells;

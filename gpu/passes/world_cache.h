@@ -21,6 +21,7 @@
 #include "core/shared/world_cache.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
+#include "gpu/host_mirror.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/state_buffers.h"
 #include "gpu/timer.h"
@@ -143,7 +144,10 @@ class WorldCache {
   std::vector<std::pair<std::uint32_t, const Buffer*>> buffer_table() const;
   std::vector<ShaderDefine> shader_defines() const { return settings_.defines(pending_capacity_); }
 
+  // The statistics as record_readbacks copied them (the end of the frame).
   WorldCacheFrameStats stats() const;
+  // At the end of the frame's command buffer: counters and statistics copied for the host.
+  void record_readbacks(VkCommandBuffer cmd) const;
   Image view() const;  // irradiance at each pixel's primary surface, from the cache (settings.view)
   // Persistent buffers: checksums, life, radiance, luminance delta, geometry, root frame.
   void list_state(StateList& out);
@@ -169,6 +173,7 @@ class WorldCache {
   ComputePass decay_, compact_count_, compact_scan_, compact_write_, sample_di_, sample_gi_, pending_args_,
       commit_, blend_, stats_pass_;
   std::optional<ComputePass> query_pixels_;  // settings.view only
+  HostMirror counters_host_, stats_host_;
 };
 
 }  // namespace gi::gpu

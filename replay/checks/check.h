@@ -13,6 +13,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -98,7 +99,10 @@ struct FrameData {
   gpu::Renderer* renderer = nullptr;
   std::uint32_t window_start = 0;    // first frame of the accumulation window
   std::uint64_t window_samples = 0;  // samples per pixel accumulated in it
+  // The output image: `output` where the caller has it, else read_output
+  // reads it back (once per frame; only a check that asks pays for it).
   const Image* output = nullptr;
+  std::function<const Image&()> read_output;
   double output_luminance = 0.0;
   std::uint64_t nonfinite_pixels = 0;
   const gpu::GiFrameStats* gi_stats = nullptr;             // null without GI

@@ -8,7 +8,6 @@
 
 namespace gi {
 
-
 void FrameView::require(FrameInput input, const char* what) const {
   if (!allowed_.count(input))
     throw std::logic_error(fmt::format("a check read {} at frame {} without declaring it (CheckNeeds::reads)", what,
@@ -17,7 +16,7 @@ void FrameView::require(FrameInput input, const char* what) const {
 
 const Image& FrameView::output() const {
   require(FrameInput::output, "the output");
-  return *data_.output;
+  return data_.output ? *data_.output : data_.read_output();
 }
 double FrameView::output_luminance() const {
   require(FrameInput::output, "the output's luminance");
