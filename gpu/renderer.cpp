@@ -182,6 +182,11 @@ void Renderer::render_frame(const FrameConstants& frame) {
                                   options_.height));
   frame_.upload_bytes(&frame, sizeof frame);
   if (bindings_dirty_) bind_passes();
+  const std::vector<HashRange> hash_ranges = std::exchange(next_frame_hashes_, {});
+  if (!hash_ranges.empty()) {
+    if (!state_hash_) state_hash_.emplace(device_, compiler_);
+    state_hash_->ensure_slots(std::uint32_t(hash_ranges.size()));
+  }
   const std::uint32_t w = options_.width, h = options_.height;
   device_.submit_and_wait([&](VkCommandBuffer cmd) {
     timer_.begin_frame(cmd);
@@ -215,8 +220,17 @@ void Renderer::render_frame(const FrameConstants& frame) {
     // The small results read after every frame, copied for the host in this submission.
     if (world_cache_) world_cache_->record_readbacks(cmd);
     if (gi_) gi_->record_readbacks(cmd);
+    if (!hash_ranges.empty()) {
+      timer_.begin(cmd, "state_hash");
+      state_hash_->record_all(cmd, hash_ranges);
+      timer_.end(cmd);
+    }
   });
   timer_.resolve();
+  if (!hash_ranges.empty()) {
+    frame_hashes_.clear();
+    for (std::uint32_t i = 0; i < hash_ranges.size(); ++i) frame_hashes_.push_back(state_hash_->result(i));
+  }
 }
 
 FrameOutput& Renderer::frame_output() {

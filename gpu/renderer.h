@@ -89,6 +89,11 @@ class Renderer {
   const FrameOutput& frame_output() const;
   // Hashes of buffer ranges on the GPU, one submission (between frames).
   std::vector<std::string> hash_buffers(const std::vector<HashRange>& ranges);
+  // The same ranges hashed at the end of the next render_frame, inside its
+  // submission (per-frame state hashes without a submission of their own);
+  // frame_hashes() then holds them, in order, until the next such frame.
+  void hash_after_next_frame(std::vector<HashRange> ranges) { next_frame_hashes_ = std::move(ranges); }
+  const std::vector<std::string>& frame_hashes() const { return frame_hashes_; }
   Image cache_view() const { return world_cache().view(); }
   // The realtime output of one chain: DI, plus GI and specular when GI runs;
   // this frame's, or the temporal mean over the accumulation window.
@@ -156,7 +161,9 @@ class Renderer {
   std::optional<WorldCache> world_cache_;
   std::optional<GiPipeline> gi_;
   std::optional<FrameOutput> frame_output_;
-  std::optional<BufferHash> state_hash_;  // made on the first hash_buffers
+  std::optional<BufferHash> state_hash_;  // made on the first hash_buffers or hash_after_next_frame
+  std::vector<HashRange> next_frame_hashes_;
+  std::vector<std::string> frame_hashes_;
   ShaderCompiler& compiler_;
   GpuTimer timer_;
   // Packed visibility IDs: per-mesh clusters, the table the passes read.

@@ -82,10 +82,15 @@ std::size_t state_bytes(const gpu::StateBuffer& b) {
   return static_cast<std::size_t>(n);
 }
 
-nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, gpu::Renderer& renderer) {
+std::vector<gpu::HashRange> state_ranges(const gpu::StateList& state) {
   std::vector<gpu::HashRange> ranges;
   for (const gpu::StateBuffer& b : state) ranges.push_back({b.buffer, state_bytes(b)});
-  const std::vector<std::string> hashes = renderer.hash_buffers(ranges);
+  return ranges;
+}
+
+nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, const std::vector<std::string>& hashes) {
+  if (hashes.size() != state.size())
+    throw DeviceError(fmt::format("hash_record: {} hashes for {} state buffers", hashes.size(), state.size()));
   nlohmann::json buffers = nlohmann::json::array();
   for (std::size_t i = 0; i < state.size(); ++i) buffers.push_back({state[i].name, hashes[i]});
   return {{"frame", frame}, {"buffers", buffers}};

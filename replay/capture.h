@@ -27,6 +27,7 @@
 
 #include "core/image.h"
 #include "core/scene_flatten.h"
+#include "gpu/passes/buffer_hash.h"
 #include "gpu/state_buffers.h"
 
 namespace gi {
@@ -49,9 +50,11 @@ std::size_t state_bytes(const gpu::StateBuffer& b);
 // Hash of the scene as uploaded (instances, materials, lights): a replay
 // re-derives the scene from the events and checks it against the manifest's.
 std::string scene_hash(const FlatInstances& scene);
-// {"frame": f, "buffers": [[name, hash], …]} in list order, hashed on the GPU
-// (nothing read back).
-nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, gpu::Renderer& renderer);
+// The ranges a hash of the listed buffers covers (state_bytes of each).
+std::vector<gpu::HashRange> state_ranges(const gpu::StateList& state);
+// {"frame": f, "buffers": [[name, hash], …]} in list order, from hashes of
+// state_ranges(state) made on the GPU (nothing read back).
+nlohmann::json hash_record(std::uint32_t frame, const gpu::StateList& state, const std::vector<std::string>& hashes);
 
 // Writes the folder `dir`. `manifest` holds the run's fields (run_scenario
 // fills them); buffers, host state and images are added here. manifest.json

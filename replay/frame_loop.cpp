@@ -43,10 +43,11 @@ void FrameLoop::build_renderer() {
   renderer_->update_scene(flat_, scene_.visible_instances());
 }
 
-nlohmann::json FrameLoop::state_hashes(std::uint32_t frame) {
+nlohmann::json FrameLoop::state_hashes(std::uint32_t frame, bool hashed_with_frame) {
   gpu::StateList state;
   renderer_->list_state(state);
-  return hash_record(frame, state, *renderer_);
+  return hash_record(frame, state,
+                     hashed_with_frame ? renderer_->frame_hashes() : renderer_->hash_buffers(state_ranges(state)));
 }
 
 // Replay: the scene at the captured frame (events are a pure function of the
@@ -71,7 +72,7 @@ void FrameLoop::resume() {
   for (std::size_t i = 0; i < setup_.checks.size(); ++i)
     if (states.contains(scenario_.checks[i].name)) setup_.checks[i]->restore_state(states[scenario_.checks[i].name]);
   previous_camera_ = make_gpu_camera(scene_.camera, setup_.width, setup_.height);
-  nlohmann::json restored = state_hashes(capture.frame);
+  nlohmann::json restored = state_hashes(capture.frame, false);
   restored["restored"] = true;  // the state as restored, before any replayed frame
   hash_log_->add(restored);
   first_frame_ = capture.frame + 1;
@@ -158,6 +159,12 @@ void FrameLoop::run() {
     const bool noise_frame = setup_.realtime && frame >= noise_start();
     if (setup_.realtime) renderer_->frame_output().set_accumulate_noise(noise_frame);
     if (noise_frame) temporal_noise_.count_frame();
+    const bool last = frame + 1 == setup_.frames;
+    if (hash_log_ || last) {  // the state hashed at the end of the frame, in its own submission
+      gpu::StateList state;
+      renderer_->list_state(state);
+      renderer_->hash_after_next_frame(state_ranges(state));
+    }
     renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
                                             frame, setup_.seed, scenario_.samples_per_frame));
     previous_camera_ = camera;
@@ -205,10 +212,9 @@ void FrameLoop::run() {
                            {"downloads", now.downloads - transfers_before.downloads},
                            {"uploaded_bytes", now.uploaded - transfers_before.uploaded}};
     frame_log_.add(record);
-    const bool last = frame + 1 == setup_.frames;
     if (last) read_output();  // the run's final image (summary, baseline)
     if (hash_log_ || last) {
-      const nlohmann::json hashes = state_hashes(frame);
+      const nlohmann::json hashes = state_hashes(frame, true);
       if (hash_log_) hash_log_->add(hashes);
       if (last)
         for (const nlohmann::json& b : hashes["buffers"]) final_state_hashes_[b[0].get<std::string>()] = b[1];

@@ -57,7 +57,8 @@ class FrameLoop {
   std::uint32_t noise_start() const { return std::max(first_frame_, setup_.frames / 2); }
   void capture(std::uint32_t frame);
   nlohmann::json chain_noise_figures(std::uint32_t frame) const;
-  nlohmann::json state_hashes(std::uint32_t frame);
+  // hashed_with_frame: the hashes the frame's own submission made (Renderer::hash_after_next_frame).
+  nlohmann::json state_hashes(std::uint32_t frame, bool hashed_with_frame);
 
   const Scenario& scenario_;
   const RunOptions& options_;

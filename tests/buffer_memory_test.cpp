@@ -124,6 +124,8 @@ TEST(BufferMemory, ACheckJudgingOneFrameReadsBackOnlyOnThatFrame) {
   for (const nlohmann::json& f : frames) {
     const std::uint64_t bytes = f["transfers"]["downloaded_bytes"];
     if (f["frame"] == 12) EXPECT_GE(bytes, base + 2 * image) << "frame 12 reads both chains' means";
+    // The last frame also hashes the final state on the GPU: 8 bytes per buffer.
+    else if (f["frame"] == 15) EXPECT_LE(bytes, base + 8 * 32) << "frame 15";
     else EXPECT_EQ(bytes, base) << "frame " << f["frame"];
   }
 }

@@ -68,14 +68,16 @@ std::string BufferHash::result(std::uint32_t slot) const {
   return word_hash_hex(word_hash_finish(sums, words_.at(slot)));
 }
 
+void BufferHash::record_all(VkCommandBuffer cmd, const std::vector<HashRange>& ranges) {
+  record_clear(cmd);
+  for (std::uint32_t i = 0; i < ranges.size(); ++i) record(cmd, ranges[i], i);
+  compute_barrier(cmd);
+  record_to_host(cmd);
+}
+
 std::vector<std::string> BufferHash::hash_now(const std::vector<HashRange>& ranges) {
   ensure_slots(std::uint32_t(ranges.size()));
-  device_.submit_and_wait([&](VkCommandBuffer cmd) {
-    record_clear(cmd);
-    for (std::uint32_t i = 0; i < ranges.size(); ++i) record(cmd, ranges[i], i);
-    compute_barrier(cmd);
-    record_to_host(cmd);
-  });
+  device_.submit_and_wait([&](VkCommandBuffer cmd) { record_all(cmd, ranges); });
   std::vector<std::string> out;
   for (std::uint32_t i = 0; i < ranges.size(); ++i) out.push_back(result(i));
   return out;

@@ -42,9 +42,13 @@ class BufferHash {
 
   // Hashes the ranges in one submission of its own (between frames).
   std::vector<std::string> hash_now(const std::vector<HashRange>& ranges);
+  // Records clear, hashes of ranges[i] into slot i, and the copy for the host
+  // (call ensure_slots(ranges.size()) before recording).
+  void record_all(VkCommandBuffer cmd, const std::vector<HashRange>& ranges);
+  // At least `slots` slots (reallocates and rebinds: not while recording).
+  void ensure_slots(std::uint32_t slots);
 
  private:
-  void ensure_slots(std::uint32_t slots);
 
   Device& device_;
   ComputePass pass_;
