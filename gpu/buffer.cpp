@@ -133,6 +133,7 @@ void Buffer::upload_bytes(const void* data, VkDeviceSize bytes, VkDeviceSize off
   if (!bytes) return;
   owner_->count_transfer(false, bytes);
   if (mapped_) {
+    owner_->wait();  // never under a submission in flight (a no-op when none is)
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
     return;
   }
@@ -153,6 +154,7 @@ void Buffer::download_bytes(void* data, VkDeviceSize bytes, VkDeviceSize offset)
   if (!bytes) return;
   owner_->count_transfer(true, bytes);
   if (mapped_) {
+    owner_->wait();  // never under a submission in flight (a no-op when none is)
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }
@@ -168,6 +170,7 @@ void Buffer::download_bytes(void* data, VkDeviceSize bytes, VkDeviceSize offset)
 
 void Buffer::fill_zero() {
   if (mapped_) {
+    owner_->wait();
     std::memset(mapped_, 0, size_);
     return;
   }

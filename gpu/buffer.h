@@ -4,7 +4,8 @@
 // reads and writes them in place; on a discrete GPU they are device-local and
 // upload/download/fill_zero go through a host-cached staging buffer with a
 // copy on the queue (each a submit-and-wait: call them between frames, never
-// while recording). Either way the bytes are the same.
+// while recording). Either way the bytes are the same. A transfer while a
+// submission is in flight (Device::submit) first waits for it.
 #pragma once
 #include <cstdint>
 #include <cstring>

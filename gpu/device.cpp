@@ -386,6 +386,8 @@ Device::Device(std::optional<int> index, BackendRequest request) {
 void Device::destroy() noexcept {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    if (in_flight_) vkFreeCommandBuffers(device_, pool_, 1, &in_flight_);
+    in_flight_ = VK_NULL_HANDLE;
     staging_.reset();
     if (fence_) vkDestroyFence(device_, fence_, nullptr);
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
@@ -421,44 +423,53 @@ Device& Device::operator=(Device&& other) noexcept {
     staged_buffers_ = other.staged_buffers_;
     staging_ = std::move(other.staging_);
     transfers_ = other.transfers_;
+    in_flight_ = std::exchange(other.in_flight_, VK_NULL_HANDLE);
   }
   return *this;
 }
 
 void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+  submit(record);
+  wait();
+}
+
+void Device::submit(const std::function<void(VkCommandBuffer)>& record) {
   // A staged transfer inside a recording would submit from within a submission.
   if (recording_) throw std::logic_error("Device::submit_and_wait called while recording (a staged transfer?)");
+  wait();  // one submission in flight at a time: a transfer between frames follows the frame
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = pool_;
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   ai.commandBufferCount = 1;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   check_vk(vkAllocateCommandBuffers(device_, &ai, &cmd), "vkAllocateCommandBuffers");
-  struct Free {
-    VkDevice d;
-    VkCommandPool p;
-    VkCommandBuffer c;
-    ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
-  } free_cmd{device_, pool_, cmd};
-
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  check_vk(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  recording_ = true;
   try {
-    record(cmd);
-  } catch (...) {
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check_vk(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+    recording_ = true;
+    try {
+      record(cmd);
+    } catch (...) {
+      recording_ = false;
+      throw;
+    }
     recording_ = false;
+    check_vk(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    check_vk(vkResetFences(device_, 1, &fence_), "vkResetFences");
+    check_vk(vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
+  } catch (...) {
+    vkFreeCommandBuffers(device_, pool_, 1, &cmd);
     throw;
   }
-  recording_ = false;
-  check_vk(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  in_flight_ = cmd;
+}
 
-  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmd;
-  check_vk(vkResetFences(device_, 1, &fence_), "vkResetFences");
-  check_vk(vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
+void Device::wait() {
+  if (in_flight_ == VK_NULL_HANDLE) return;
   const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, gpu_timeout_ns());
   if (waited == VK_TIMEOUT || waited == VK_ERROR_DEVICE_LOST) {
     const std::string message =
@@ -469,6 +480,8 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record)
     gpu_fault(message);
   }
   check_vk(waited, "vkWaitForFences");
+  vkFreeCommandBuffers(device_, pool_, 1, &in_flight_);
+  in_flight_ = VK_NULL_HANDLE;
 }
 
 Buffer& Device::staging(VkDeviceSize bytes) {

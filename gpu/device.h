@@ -125,6 +125,12 @@ class Device {
   // safe. The handler is where a caller saves what it has (nightly marks the
   // scenario and rewrites its summary).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+  // The same in two halves, so the host can work while the GPU runs: submit
+  // records and submits (after waiting for any submission still in flight:
+  // one at a time), wait waits for it (nothing when none is in flight).
+  void submit(const std::function<void(VkCommandBuffer)>& record);
+  void wait();
+  bool in_flight() const { return in_flight_ != VK_NULL_HANDLE; }
   static void set_fault_handler(std::function<void(const std::string& message)> handler);
   // The same end for a fault found elsewhere: the handler, the message, exit 3.
   [[noreturn]] static void fault(const std::string& message);
@@ -147,6 +153,7 @@ class Device {
   TraceBackend backend_ = TraceBackend::rayquery;
   bool staged_buffers_ = false;
   bool recording_ = false;  // inside submit_and_wait's record callback
+  VkCommandBuffer in_flight_ = VK_NULL_HANDLE;  // submitted, not yet waited for
   std::unique_ptr<Buffer> staging_;
   TransferCounts transfers_;
 };

@@ -65,6 +65,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     reference_a_ = Buffer(device, pixels * sizeof(glm::vec4), kStorage, "reference A");
     reference_b_ = Buffer(device, pixels * sizeof(glm::vec4), kStorage, "reference B");
     nonfinite_ = Buffer(device, sizeof(std::uint32_t), kStorage, "reference non-finite count");
+    nonfinite_host_.emplace(device, nonfinite_);
     reset_accumulation();
     reference_path_trace_.emplace(device, compiler);
   }
@@ -175,6 +176,11 @@ void Renderer::bind_passes() {
 }
 
 void Renderer::render_frame(const FrameConstants& frame) {
+  submit_frame(frame);
+  finish_frame();
+}
+
+void Renderer::submit_frame(const FrameConstants& frame) {
   if (!scene_uploaded_) throw DeviceError("Renderer::render_frame before update_scene");
   if (frame.resolution_frame.x != options_.width || frame.resolution_frame.y != options_.height)
     throw DeviceError(fmt::format("Renderer::render_frame: frame constants say {}x{}, the renderer is {}x{}",
@@ -188,7 +194,8 @@ void Renderer::render_frame(const FrameConstants& frame) {
     state_hash_->ensure_slots(std::uint32_t(hash_ranges.size()));
   }
   const std::uint32_t w = options_.width, h = options_.height;
-  device_.submit_and_wait([&](VkCommandBuffer cmd) {
+  submitted_hashes_ = hash_ranges.size();
+  device_.submit([&](VkCommandBuffer cmd) {
     timer_.begin_frame(cmd);
     auto run = [&](const char* name, const auto& pass) {
       timer_.begin(cmd, name);
@@ -220,16 +227,25 @@ void Renderer::render_frame(const FrameConstants& frame) {
     // The small results read after every frame, copied for the host in this submission.
     if (world_cache_) world_cache_->record_readbacks(cmd);
     if (gi_) gi_->record_readbacks(cmd);
+    if (nonfinite_host_) nonfinite_host_->record_copy(cmd);
     if (!hash_ranges.empty()) {
       timer_.begin(cmd, "state_hash");
       state_hash_->record_all(cmd, hash_ranges);
       timer_.end(cmd);
     }
   });
+  frame_in_flight_ = true;
+  nonfinite_reset_ = false;
+}
+
+void Renderer::finish_frame() {
+  if (!frame_in_flight_) throw DeviceError("Renderer::finish_frame without submit_frame");
+  device_.wait();
+  frame_in_flight_ = false;
   timer_.resolve();
-  if (!hash_ranges.empty()) {
+  if (submitted_hashes_ > 0) {
     frame_hashes_.clear();
-    for (std::uint32_t i = 0; i < hash_ranges.size(); ++i) frame_hashes_.push_back(state_hash_->result(i));
+    for (std::uint32_t i = 0; i < submitted_hashes_; ++i) frame_hashes_.push_back(state_hash_->result(i));
   }
 }
 
@@ -274,6 +290,7 @@ void Renderer::reset_accumulation() {
   reference_a_.fill_zero();
   reference_b_.fill_zero();
   nonfinite_.fill_zero();
+  nonfinite_reset_ = true;
 }
 
 Image Renderer::reference_mean() const {
@@ -326,7 +343,9 @@ std::vector<glm::vec4> Renderer::reference_sums(int which) const {
 
 std::uint64_t Renderer::reference_nonfinite_samples() const {
   require(options_.reference, "the reference");
-  return nonfinite_.download<std::uint32_t>(1)[0];
+  // The mirror the frame's submission filled; a reset since then zeroed the counter itself.
+  return nonfinite_host_ && !nonfinite_reset_ ? nonfinite_host_->read<std::uint32_t>(1)[0]
+                                              : nonfinite_.download<std::uint32_t>(1)[0];
 }
 
 const std::vector<std::string>& Renderer::gbuffer_layer_names() {

@@ -24,6 +24,7 @@
 #include "core/scene_flatten.h"
 #include "gpu/acceleration_structures.h"
 #include "gpu/buffer.h"
+#include "gpu/host_mirror.h"
 #include "gpu/bvh_buffers.h"
 #include "gpu/passes/buffer_hash.h"
 #include "gpu/passes/di_pipeline.h"
@@ -74,6 +75,12 @@ class Renderer {
   // Records, submits and waits: visibility, G-buffer, reference (each only if
   // enabled), with timestamps. frame.resolution_frame.xy must match the options.
   void render_frame(const FrameConstants& frame);
+  // The same in two halves: submit_frame records and submits without
+  // waiting, so the host can work while the GPU renders; finish_frame waits
+  // and reads the timestamps and the frame's hashes. Nothing may touch the
+  // renderer's buffers between the two (a buffer transfer would wait).
+  void submit_frame(const FrameConstants& frame);
+  void finish_frame();
   // Zeroes the reference halves and the non-finite counter, and the DI sums.
   void reset_accumulation();
   // Realtime DI (RendererOptions::di): DiPipeline::frame/mean per chain.
@@ -154,6 +161,8 @@ class Renderer {
   Buffer dfg_lut_;  // make_dfg_lut_buffer, once per renderer
   Buffer visibility_, depth_, gbuffer_;
   Buffer reference_a_, reference_b_, nonfinite_;
+  std::optional<HostMirror> nonfinite_host_;  // copied at the end of each frame
+  bool nonfinite_reset_ = false;              // zeroed since the last frame's copy
   std::optional<PrimaryVisibility> primary_visibility_;
   std::optional<GBufferResolve> gbuffer_resolve_;
   std::optional<ReferencePathTrace> reference_path_trace_;
@@ -164,6 +173,8 @@ class Renderer {
   std::optional<BufferHash> state_hash_;  // made on the first hash_buffers or hash_after_next_frame
   std::vector<HashRange> next_frame_hashes_;
   std::vector<std::string> frame_hashes_;
+  std::size_t submitted_hashes_ = 0;  // ranges the frame in flight hashes
+  bool frame_in_flight_ = false;
   ShaderCompiler& compiler_;
   GpuTimer timer_;
   // Packed visibility IDs: per-mesh clusters, the table the passes read.

@@ -222,19 +222,14 @@ bool same(const Camera& a, const Camera& b) {
 
 }  // namespace
 
-ChangeSet apply_events(Scene& scene, const Scene& initial, const Scenario& s, std::uint32_t frame) {
-  State st = evaluate(initial, s, frame);
-  ChangeSet c;
+namespace {
 
+// What differs between `scene` and the evaluated state `st` at a frame.
+ChangeSet compare(const Scene& scene, const Scene& initial, const State& st) {
+  ChangeSet c;
   // Meshes: the initial ones, then generated ones (deterministic, so a list of
   // the right length is the right list).
-  const std::size_t mesh_count = initial.meshes.size() + st.generated_meshes.size();
-  if (scene.meshes.size() != mesh_count) {
-    scene.meshes = initial.meshes;
-    for (Mesh& m : st.generated_meshes) scene.meshes.push_back(std::move(m));
-    c.geometry = true;
-  }
-
+  if (scene.meshes.size() != initial.meshes.size() + st.generated_meshes.size()) c.geometry = true;
   if (scene.instances.size() != st.instances.size()) c.geometry = true;
   const std::size_t n = std::min(scene.instances.size(), st.instances.size());
   for (std::size_t i = 0; i < n; ++i) {
@@ -260,12 +255,28 @@ ChangeSet apply_events(Scene& scene, const Scene& initial, const Scenario& s, st
       if (!same(scene.directional_lights[i], st.directional[i])) c.lights = true;
   }
   if (!same(scene.camera, st.camera)) c.camera = true;
+  return c;
+}
 
+}  // namespace
+
+ChangeSet apply_events(Scene& scene, const Scene& initial, const Scenario& s, std::uint32_t frame) {
+  State st = evaluate(initial, s, frame);
+  const ChangeSet c = compare(scene, initial, st);
+  const std::size_t mesh_count = initial.meshes.size() + st.generated_meshes.size();
+  if (scene.meshes.size() != mesh_count) {
+    scene.meshes = initial.meshes;
+    for (Mesh& m : st.generated_meshes) scene.meshes.push_back(std::move(m));
+  }
   scene.instances = std::move(st.instances);
   scene.materials = std::move(st.materials);
   scene.directional_lights = std::move(st.directional);
   scene.camera = st.camera;
   return c;
+}
+
+ChangeSet changes_at(const Scene& scene, const Scene& initial, const Scenario& s, std::uint32_t frame) {
+  return compare(scene, initial, evaluate(initial, s, frame));
 }
 
 Scene scene_at_frame(const Scene& initial, const Scenario& s, std::uint32_t frame) {

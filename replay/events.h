@@ -59,6 +59,8 @@ struct ChangeSet {
 // relative to the `scene` it was given. `initial` is what build_scene()
 // returned (its events validated).
 ChangeSet apply_events(Scene& scene, const Scene& initial, const Scenario& scenario, std::uint32_t frame);
+// What apply_events would report at `frame`, without changing `scene`.
+ChangeSet changes_at(const Scene& scene, const Scene& initial, const Scenario& scenario, std::uint32_t frame);
 
 // The state at `frame`, from scratch.
 Scene scene_at_frame(const Scene& initial, const Scenario& scenario, std::uint32_t frame);

@@ -1,6 +1,7 @@
 #include "replay/frame_loop.h"
 
 #include <chrono>
+#include <set>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -43,11 +44,10 @@ void FrameLoop::build_renderer() {
   renderer_->update_scene(flat_, scene_.visible_instances());
 }
 
-nlohmann::json FrameLoop::state_hashes(std::uint32_t frame, bool hashed_with_frame) {
+nlohmann::json FrameLoop::restored_state_hashes(std::uint32_t frame) {
   gpu::StateList state;
   renderer_->list_state(state);
-  return hash_record(frame, state,
-                     hashed_with_frame ? renderer_->frame_hashes() : renderer_->hash_buffers(state_ranges(state)));
+  return hash_record(frame, state, renderer_->hash_buffers(state_ranges(state)));
 }
 
 // Replay: the scene at the captured frame (events are a pure function of the
@@ -72,7 +72,7 @@ void FrameLoop::resume() {
   for (std::size_t i = 0; i < setup_.checks.size(); ++i)
     if (states.contains(scenario_.checks[i].name)) setup_.checks[i]->restore_state(states[scenario_.checks[i].name]);
   previous_camera_ = make_gpu_camera(scene_.camera, setup_.width, setup_.height);
-  nlohmann::json restored = state_hashes(capture.frame, false);
+  nlohmann::json restored = restored_state_hashes(capture.frame);
   restored["restored"] = true;  // the state as restored, before any replayed frame
   hash_log_->add(restored);
   first_frame_ = capture.frame + 1;
@@ -111,33 +111,26 @@ void FrameLoop::apply_frame_events(std::uint32_t frame) {
   }
 }
 
-// The frame's record from the measures the GPU reduced (a few mapped bytes);
-// the output image is read back only if a check asks for it this frame.
-nlohmann::json FrameLoop::measure(std::uint32_t frame, FrameData& data) {
-  nlohmann::json timings = nlohmann::json::object();
-  for (const auto& t : renderer_->last_timings()) timings[t.name] = json_figure(t.ms);
-  const gpu::FrameMeasures m = renderer_->frame_output().measures();
-  output_read_ = false;
-  data.read_output = [this]() -> const Image& { return read_output(); };
-  data.output_luminance = m.output_luminance;
-  data.nonfinite_pixels = m.nonfinite_components;
-  data.gi_luminance = m.gi_luminance;
-  frame_image_hashes_.push_back(m.image_hash);
-  nlohmann::json record = {{"frame", frame},
-                           {"window_start", window_start_},
-                           {"window_samples", window_samples_},
-                           {"mean_luminance", json_figure(data.output_luminance)},
-                           {"nonfinite_pixels", data.nonfinite_pixels},
-                           {"nonfinite_samples", setup_.realtime ? 0 : renderer_->reference_nonfinite_samples()},
-                           {"pass_ms", timings}};
-  if (setup_.realtime) {
-    record["signal_mean_luminance"] = {{"di", json_figure(m.di_luminance)}};
-    if (setup_.gi) {
-      record["signal_mean_luminance"]["gi"] = json_figure(m.gi_luminance);
-      record["signal_mean_luminance"]["specular"] = json_figure(m.specular_luminance);
-    }
-  }
-  return record;
+// What the frame record and the checks read of every frame: a few dozen
+// bytes the GPU reduced, taken as soon as the frame's submission finished
+// (the output image is read back only if a check asks for it this frame).
+FrameLoop::Taken FrameLoop::take(std::uint32_t frame, std::chrono::steady_clock::time_point started,
+                                 const gpu::Device::TransferCounts& before) {
+  Taken t;
+  t.frame = frame;
+  t.started = started;
+  t.window_start = window_start_;
+  t.window_samples = window_samples_;
+  t.timings = renderer_->last_timings();
+  t.measures = renderer_->frame_output().measures();
+  if (!setup_.realtime) t.nonfinite_samples = renderer_->reference_nonfinite_samples();
+  if (setup_.gi) t.gi_stats = renderer_->gi().stats();
+  if (setup_.renderer_options.world_cache) t.cache_stats = renderer_->world_cache().stats();
+  if (hash_log_ || frame + 1 == setup_.frames) t.state_hashes = renderer_->frame_hashes();
+  const gpu::Device::TransferCounts& now = device_.transfers();
+  t.transfers = {now.downloaded - before.downloaded, now.uploaded - before.uploaded, now.downloads - before.downloads,
+                 now.uploads - before.uploads};
+  return t;
 }
 
 const Image& FrameLoop::read_output() {
@@ -146,10 +139,114 @@ const Image& FrameLoop::read_output() {
   return output_;
 }
 
+// Frame f's observation may wait until frame f + 1 is on the GPU when it
+// reads only what take() kept: no check judging f reads a buffer, no
+// capture, not the last frame, no cache view to read back, and frame f + 1
+// changes nothing (its events would reach the scene and the checks'
+// prepare() before they observed f).
+bool FrameLoop::can_defer(std::uint32_t frame) const {
+  if (frame + 1 >= setup_.frames || setup_.captures.count(frame) || scenario_.cache_view) return false;
+  static const std::set<FrameInput> kept = {FrameInput::output, FrameInput::gi_stats, FrameInput::gi_luminance,
+                                            FrameInput::cache_stats, FrameInput::nonfinite_samples};
+  for (const CheckNeeds& needs : setup_.needs) {
+    if (needs.frames && !needs.frames->count(frame)) continue;
+    for (FrameInput input : needs.reads)
+      if (!kept.count(input)) return false;
+  }
+  return !changes_at(scene_, setup_.initial, scenario_, frame + 1).any();
+}
+
+// The frame's record and the checks' look at it, from what take() kept
+// (frames not deferred may also read buffers: the GPU is idle then).
+void FrameLoop::observe(const Taken& t, bool deferred) {
+  const std::uint32_t frame = t.frame;
+  const gpu::Device::TransferCounts before = device_.transfers();
+  FrameData data;
+  data.frame = frame;
+  data.scene = &scene_;
+  data.renderer = renderer_.get();
+  data.window_start = t.window_start;
+  data.window_samples = t.window_samples;
+  output_read_ = false;
+  if (!deferred) data.read_output = [this]() -> const Image& { return read_output(); };
+  data.output_luminance = t.measures.output_luminance;
+  data.nonfinite_pixels = t.measures.nonfinite_components;
+  data.nonfinite_samples = t.nonfinite_samples;
+  data.gi_luminance = t.measures.gi_luminance;
+  frame_image_hashes_.push_back(t.measures.image_hash);
+
+  nlohmann::json timings = nlohmann::json::object();
+  for (const auto& pass : t.timings) timings[pass.name] = json_figure(pass.ms);
+  nlohmann::json record = {{"frame", frame},
+                           {"window_start", t.window_start},
+                           {"window_samples", t.window_samples},
+                           {"mean_luminance", json_figure(data.output_luminance)},
+                           {"nonfinite_pixels", data.nonfinite_pixels},
+                           {"nonfinite_samples", t.nonfinite_samples},
+                           {"pass_ms", timings}};
+  if (setup_.realtime) {
+    record["signal_mean_luminance"] = {{"di", json_figure(t.measures.di_luminance)}};
+    if (setup_.gi) {
+      record["signal_mean_luminance"]["gi"] = json_figure(t.measures.gi_luminance);
+      record["signal_mean_luminance"]["specular"] = json_figure(t.measures.specular_luminance);
+    }
+  }
+  if (t.gi_stats) {
+    data.gi_stats = &*t.gi_stats;
+    record["gi"] = {{"merges", t.gi_stats->merges},
+                    {"rejections", t.gi_stats->rejections},
+                    {"max_accepted_j", json_figure(t.gi_stats->max_accepted_j)},
+                    {"nonfinite_reservoirs", t.gi_stats->nonfinite_reservoirs},
+                    {"nonfinite_output", t.gi_stats->nonfinite_output}};
+  }
+  if (t.cache_stats) {
+    data.cache_stats = &*t.cache_stats;
+    record["world_cache"] = {{"active_cells", t.cache_stats->active_cells},
+                             {"updated_cells", t.cache_stats->updated_cells},
+                             {"live_cells", t.cache_stats->live_cells},
+                             {"mean_radiance", json_figure(t.cache_stats->mean_radiance)},
+                             {"oldest_age", t.cache_stats->oldest_age},
+                             {"over_age_cells", t.cache_stats->over_age_cells}};
+    if (scenario_.cache_view) {  // never deferred (can_defer)
+      data.cache_view_luminance = mean_luminance(renderer_->cache_view());
+      record["world_cache"]["view_mean_luminance"] = json_figure(*data.cache_view_luminance);
+    }
+  }
+  for (std::size_t i = 0; i < setup_.checks.size(); ++i) {
+    const CheckNeeds& needs = setup_.needs[i];
+    if (!needs.frames || needs.frames->count(frame)) setup_.checks[i]->observe(FrameView(data, needs.reads), record);
+  }
+  // What observing this frame moved: its rendering's small results (take)
+  // and the record's and the checks' readbacks; state hashes and captures
+  // come after. Whether its record waited for the next frame's submission.
+  const gpu::Device::TransferCounts& now = device_.transfers();
+  record["transfers"] = {{"downloaded_bytes", t.transfers.downloaded + now.downloaded - before.downloaded},
+                         {"downloads", t.transfers.downloads + now.downloads - before.downloads},
+                         {"uploaded_bytes", t.transfers.uploaded + now.uploaded - before.uploaded}};
+  record["observed_during_next_frame"] = deferred;
+  frame_log_.add(record);
+  const bool last = frame + 1 == setup_.frames;
+  if (last) read_output();  // the run's final image (summary, baseline)
+  if (hash_log_ || last) {
+    gpu::StateList state;
+    renderer_->list_state(state);
+    const nlohmann::json hashes = hash_record(frame, state, t.state_hashes);
+    if (hash_log_) hash_log_->add(hashes);
+    if (last)
+      for (const nlohmann::json& b : hashes["buffers"]) final_state_hashes_[b[0].get<std::string>()] = b[1];
+  }
+  if (setup_.captures.count(frame)) capture(frame);
+  if (!options_.quiet && (frame + 1) % 16 == 0) spdlog::info("{}: frame {}/{}", scenario_.name, frame + 1, setup_.frames);
+}
+
+// Per frame: events, then the frame's submission; while the GPU renders it,
+// the previous frame's observation if it was deferred; then the wait, what
+// the frame record needs taken at once, and its observation, now or, when
+// can_defer allows, during the next frame's rendering. The GPU then waits
+// for the host only for events, recording and the frames that read buffers.
 void FrameLoop::run() {
   const std::uint32_t width = setup_.width, height = setup_.height;
-  std::optional<gpu::GiFrameStats> gi_stats;
-  std::optional<gpu::WorldCacheFrameStats> cache_stats;
+  std::optional<Taken> deferred;
   for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
     const auto started = std::chrono::steady_clock::now();
     inject_test_fault(scenario_.name, frame);
@@ -159,70 +256,28 @@ void FrameLoop::run() {
     const bool noise_frame = setup_.realtime && frame >= noise_start();
     if (setup_.realtime) renderer_->frame_output().set_accumulate_noise(noise_frame);
     if (noise_frame) temporal_noise_.count_frame();
-    const bool last = frame + 1 == setup_.frames;
-    if (hash_log_ || last) {  // the state hashed at the end of the frame, in its own submission
+    if (hash_log_ || frame + 1 == setup_.frames) {  // the state hashed at the end of the frame, in its submission
       gpu::StateList state;
       renderer_->list_state(state);
       renderer_->hash_after_next_frame(state_ranges(state));
     }
-    renderer_->render_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
+    renderer_->submit_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
                                             frame, setup_.seed, scenario_.samples_per_frame));
     previous_camera_ = camera;
     window_samples_ += scenario_.samples_per_frame;
-
-    FrameData data;
-    data.frame = frame;
-    data.scene = &scene_;
-    data.renderer = renderer_.get();
-    data.window_start = window_start_;
-    data.window_samples = window_samples_;
-    nlohmann::json record = measure(frame, data);
-    if (setup_.gi) {
-      gi_stats = renderer_->gi().stats();
-      data.gi_stats = &*gi_stats;
-      record["gi"] = {{"merges", gi_stats->merges},
-                      {"rejections", gi_stats->rejections},
-                      {"max_accepted_j", json_figure(gi_stats->max_accepted_j)},
-                      {"nonfinite_reservoirs", gi_stats->nonfinite_reservoirs},
-                      {"nonfinite_output", gi_stats->nonfinite_output}};
+    if (deferred) {
+      observe(*deferred, true);
+      frame_wall_ms_.push_back(since_ms(deferred->started, started));
+      deferred.reset();
     }
-    if (setup_.renderer_options.world_cache) {
-      cache_stats = renderer_->world_cache().stats();
-      data.cache_stats = &*cache_stats;
-      record["world_cache"] = {{"active_cells", cache_stats->active_cells},
-                               {"updated_cells", cache_stats->updated_cells},
-                               {"live_cells", cache_stats->live_cells},
-                               {"mean_radiance", json_figure(cache_stats->mean_radiance)},
-                               {"oldest_age", cache_stats->oldest_age},
-                               {"over_age_cells", cache_stats->over_age_cells}};
-      if (scenario_.cache_view) {
-        data.cache_view_luminance = mean_luminance(renderer_->cache_view());
-        record["world_cache"]["view_mean_luminance"] = json_figure(*data.cache_view_luminance);
-      }
+    renderer_->finish_frame();
+    Taken t = take(frame, started, transfers_before);
+    if (can_defer(frame)) {
+      deferred = std::move(t);
+    } else {
+      observe(t, false);
+      frame_wall_ms_.push_back(since_ms(started, std::chrono::steady_clock::now()));
     }
-    for (std::size_t i = 0; i < setup_.checks.size(); ++i) {
-      const CheckNeeds& needs = setup_.needs[i];
-      if (!needs.frames || needs.frames->count(frame))
-        setup_.checks[i]->observe(FrameView(data, needs.reads), record);
-    }
-    // What observing this frame moved (the frame record's and the checks'
-    // readbacks, scene updates); state hashes and captures come after.
-    const gpu::Device::TransferCounts& now = device_.transfers();
-    record["transfers"] = {{"downloaded_bytes", now.downloaded - transfers_before.downloaded},
-                           {"downloads", now.downloads - transfers_before.downloads},
-                           {"uploaded_bytes", now.uploaded - transfers_before.uploaded}};
-    frame_log_.add(record);
-    if (last) read_output();  // the run's final image (summary, baseline)
-    if (hash_log_ || last) {
-      const nlohmann::json hashes = state_hashes(frame, true);
-      if (hash_log_) hash_log_->add(hashes);
-      if (last)
-        for (const nlohmann::json& b : hashes["buffers"]) final_state_hashes_[b[0].get<std::string>()] = b[1];
-    }
-    if (setup_.captures.count(frame)) capture(frame);
-    if (!options_.quiet && (frame + 1) % 16 == 0)
-      spdlog::info("{}: frame {}/{}", scenario_.name, frame + 1, setup_.frames);
-    frame_wall_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
   }
   if (setup_.realtime) {
     noise_ = {{"chain", renderer_->di().settings().chains >= 2 ? chain_noise_figures(setup_.frames - 1)

@@ -5,6 +5,7 @@
 // run (RunOptions::resume_from) rebuilds the pipeline at the captured frame
 // and restores its state, the loop's and the checks' first.
 #pragma once
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -52,13 +53,33 @@ class FrameLoop {
   void build_renderer();  // the renderer for geometry_, the checks prepared, scene_'s instances uploaded
   void resume();
   void apply_frame_events(std::uint32_t frame);
-  nlohmann::json measure(std::uint32_t frame, FrameData& data);
+  // One frame's results the record and the checks read, taken right after
+  // its submission finished (small: the GPU reduced them).
+  struct Taken {
+    std::uint32_t frame = 0;
+    std::chrono::steady_clock::time_point started;
+    std::uint32_t window_start = 0;
+    std::uint64_t window_samples = 0;
+    std::vector<gpu::PassTiming> timings;
+    gpu::FrameMeasures measures;
+    std::uint64_t nonfinite_samples = 0;
+    std::optional<gpu::GiFrameStats> gi_stats;
+    std::optional<gpu::WorldCacheFrameStats> cache_stats;
+    std::vector<std::string> state_hashes;  // hash-log frames and the last
+    gpu::Device::TransferCounts transfers;  // moved by the frame's rendering and take()
+  };
+  Taken take(std::uint32_t frame, std::chrono::steady_clock::time_point started,
+             const gpu::Device::TransferCounts& before);
+  bool can_defer(std::uint32_t frame) const;
+  void observe(const Taken& taken, bool deferred);
   const Image& read_output();  // this frame's output image, read back once
   std::uint32_t noise_start() const { return std::max(first_frame_, setup_.frames / 2); }
+  static double since_ms(std::chrono::steady_clock::time_point from, std::chrono::steady_clock::time_point to) {
+    return std::chrono::duration<double, std::milli>(to - from).count();
+  }
   void capture(std::uint32_t frame);
   nlohmann::json chain_noise_figures(std::uint32_t frame) const;
-  // hashed_with_frame: the hashes the frame's own submission made (Renderer::hash_after_next_frame).
-  nlohmann::json state_hashes(std::uint32_t frame, bool hashed_with_frame);
+  nlohmann::json restored_state_hashes(std::uint32_t frame);  // hashed now, in a submission of their own
 
   const Scenario& scenario_;
   const RunOptions& options_;

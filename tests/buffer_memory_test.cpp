@@ -127,6 +127,10 @@ TEST(BufferMemory, ACheckJudgingOneFrameReadsBackOnlyOnThatFrame) {
     // The last frame also hashes the final state on the GPU: 8 bytes per buffer.
     else if (f["frame"] == 15) EXPECT_LE(bytes, base + 8 * 32) << "frame 15";
     else EXPECT_EQ(bytes, base) << "frame " << f["frame"];
+    // Only the judged frame (it reads buffers) and the last are observed
+    // before the next frame is submitted; the rest while the GPU renders it.
+    const bool at_once = f["frame"] == 12 || f["frame"] == 15;
+    EXPECT_EQ(f["observed_during_next_frame"], !at_once) << "frame " << f["frame"];
   }
 }
 

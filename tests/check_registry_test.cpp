@@ -84,9 +84,14 @@ TEST(CheckRegistry, AFrameViewRefusesWhatTheCheckDidNotDeclare) {
   data.frame = 3;
   const Image output(2, 2);
   data.output = &output;
-  const std::set<FrameInput> only_output = {FrameInput::output};
+  const std::set<FrameInput> only_output = {FrameInput::output_image};
   const FrameView view(data, only_output);
   EXPECT_NO_THROW(view.output());
+  // The output's reduced measures do not open the image (a full readback).
+  const std::set<FrameInput> measures = {FrameInput::output};
+  const FrameView measured(data, measures);
+  EXPECT_NO_THROW(measured.output_luminance());
+  EXPECT_THROW(measured.output(), std::logic_error);
   EXPECT_THROW(view.gi_stats(), std::logic_error);
   EXPECT_THROW(view.cache_stats(), std::logic_error);
   EXPECT_THROW(view.chain_frame(0), std::logic_error);

@@ -66,7 +66,8 @@ struct CheckContext {
 
 // What a check may read of a frame.
 enum class FrameInput {
-  output,              // the output image, its mean luminance and its non-finite pixels
+  output,              // the output's mean luminance and non-finite channels (reduced on the GPU, every frame)
+  output_image,        // the output image itself (a full readback: judged frames only)
   gi_stats,            // ReSTIR GI's statistics (integer atomics, gpu/passes/gi_pipeline.h)
   gi_luminance,        // mean luminance of the GI signal (chain A)
   cache_stats,         // the world cache's statistics (gpu/passes/world_cache.h)
@@ -105,6 +106,7 @@ struct FrameData {
   std::function<const Image&()> read_output;
   double output_luminance = 0.0;
   std::uint64_t nonfinite_pixels = 0;
+  std::uint64_t nonfinite_samples = 0;  // reference mode: since the window began
   const gpu::GiFrameStats* gi_stats = nullptr;             // null without GI
   double gi_luminance = 0.0;
   const gpu::WorldCacheFrameStats* cache_stats = nullptr;  // null without the world cache

@@ -15,7 +15,7 @@ void FrameView::require(FrameInput input, const char* what) const {
 }
 
 const Image& FrameView::output() const {
-  require(FrameInput::output, "the output");
+  require(FrameInput::output_image, "the output image");
   return data_.output ? *data_.output : data_.read_output();
 }
 double FrameView::output_luminance() const {
@@ -92,7 +92,7 @@ Image FrameView::reference_half(int which) const {
 }
 std::uint64_t FrameView::nonfinite_samples() const {
   require(FrameInput::nonfinite_samples, "non-finite samples");
-  return data_.renderer->reference_nonfinite_samples();
+  return data_.nonfinite_samples;
 }
 
 }  // namespace gi

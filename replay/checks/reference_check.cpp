@@ -226,7 +226,7 @@ class ReferencePlugin final : public Check {
       : check_(reference_check_params(c.spec, c.scenario, c.frames), c.seed, cache_root() / "reference",
                c.options.out_dir) {}
   CheckNeeds needs() const override {
-    return {.reads = {FrameInput::output, FrameInput::reference_halves},
+    return {.reads = {FrameInput::output_image, FrameInput::reference_halves},
             .frames = std::set<std::uint32_t>(check_.params().frames.begin(), check_.params().frames.end())};
   }
   void observe(const FrameView& f, nlohmann::json&) override {
