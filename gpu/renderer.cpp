@@ -243,10 +243,7 @@ void Renderer::finish_frame() {
   device_.wait();
   frame_in_flight_ = false;
   timer_.resolve();
-  if (submitted_hashes_ > 0) {
-    frame_hashes_.clear();
-    for (std::uint32_t i = 0; i < submitted_hashes_; ++i) frame_hashes_.push_back(state_hash_->result(i));
-  }
+  if (submitted_hashes_ > 0) frame_hashes_ = state_hash_->results(std::uint32_t(submitted_hashes_));
 }
 
 FrameOutput& Renderer::frame_output() {

@@ -18,7 +18,8 @@ struct ScenarioFigures {
 };
 
 // From a scenario summary.json (replay/run_scenario.cpp):
-// - timings/passes/<pass>/median_ms and their sum timings/total_median_ms;
+// - timings/passes/<pass>/median_ms, and timings/total_median_ms: the median
+//   of the per-frame pass sums (timings/frame), else the sum of the medians;
 // - checks/<check>/<figure>, with per-frame arrays named by frame
 //   (checks/reference/frame_63/relmse);
 // - frames/last/<key> for every number of the last per-frame record except

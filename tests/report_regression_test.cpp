@@ -91,6 +91,12 @@ TEST(ReportRegression, ExtractsTimingsCheckFiguresAndLastFrame) {
   EXPECT_EQ(f.figures.at("frames/last/mean_luminance"), 0.2);
   EXPECT_EQ(f.figures.count("frames/last/pass_ms/trace"), 0u);
   EXPECT_EQ(f.verdicts.at("reference"), "pass");
+  // With per-frame sums (summary.json's timings.frame), their median is the
+  // total: the last frame's state hash, one frame long, adds nothing to it.
+  nlohmann::json with_frames = summary;
+  with_frames["timings"]["passes"]["state_hash"] = {{"median_ms", 30.0}};
+  with_frames["timings"]["frame"] = {{"gpu_pass_sum_median_ms", 1.5}};
+  EXPECT_EQ(extract_figures(with_frames).figures.at("timings/total_median_ms"), 1.5);
 }
 
 TEST(ReportRegression, JunitMarksTheCaseOfARegressionFailed) {

@@ -75,12 +75,18 @@ void BufferHash::record_all(VkCommandBuffer cmd, const std::vector<HashRange>& r
   record_to_host(cmd);
 }
 
+std::vector<std::string> BufferHash::results(std::uint32_t count) const {
+  if (count > words_.size()) throw DeviceError(fmt::format("BufferHash: {} results of {} slots", count, words_.size()));
+  const std::vector<glm::uvec2> sums = sums_host_->read<glm::uvec2>(count);
+  std::vector<std::string> out;
+  for (std::uint32_t i = 0; i < count; ++i) out.push_back(word_hash_hex(word_hash_finish(sums[i], words_[i])));
+  return out;
+}
+
 std::vector<std::string> BufferHash::hash_now(const std::vector<HashRange>& ranges) {
   ensure_slots(std::uint32_t(ranges.size()));
   device_.submit_and_wait([&](VkCommandBuffer cmd) { record_all(cmd, ranges); });
-  std::vector<std::string> out;
-  for (std::uint32_t i = 0; i < ranges.size(); ++i) out.push_back(result(i));
-  return out;
+  return results(std::uint32_t(ranges.size()));
 }
 
 }  // namespace gi::gpu

@@ -37,8 +37,9 @@ class BufferHash {
   void record_clear(VkCommandBuffer cmd);
   void record(VkCommandBuffer cmd, const HashRange& range, std::uint32_t slot);
   void record_to_host(VkCommandBuffer cmd) const { sums_host_->record_copy(cmd); }
-  // After the submission: the slot's hash, 16 hex digits.
+  // After the submission: the slot's hash, 16 hex digits; the first `count` slots' (one read).
   std::string result(std::uint32_t slot) const;
+  std::vector<std::string> results(std::uint32_t count) const;
 
   // Hashes the ranges in one submission of its own (between frames).
   std::vector<std::string> hash_now(const std::vector<HashRange>& ranges);
