@@ -153,6 +153,14 @@ TEST(ClusterIds, RenderedSpawnsFlagTheOverflowBeforeAnyWrongPixel) {
   // The named spawn's own LOD-0 IDs may still fit (only its upper levels
   // overflow); the first wrong pixel is never before it.
   EXPECT_GE(c.figures["first_mismatch_frame"].get<std::uint32_t>(), overflow_frame);
+  // The rendered buffer alone names the spawn the walk named: the instance
+  // most of the first wrong frame's pixels belong to.
+  ASSERT_TRUE(c.figures.contains("rendered_overflow")) << c.message;
+  const nlohmann::json& rendered = c.figures["rendered_overflow"];
+  EXPECT_EQ(rendered["frame"], c.figures["first_mismatch_frame"]);
+  EXPECT_EQ(rendered["spawn_number"], c.figures["overflow"]["spawn_number"]);
+  EXPECT_EQ(rendered["instance"].get<std::string>().substr(0, 6), "cliff_");
+  EXPECT_NE(c.message.find("the rendered buffer names spawn"), std::string::npos) << c.message;
   for (const nlohmann::json& f : r.summary["frames"]) {
     const std::uint32_t frame = f["frame"];
     EXPECT_EQ(f["cluster_ids"]["over_limit"], frame >= overflow_frame) << frame;

@@ -54,7 +54,7 @@ ClusterIdsParams cluster_ids_params(const CheckSpec& spec, const Scenario& s) {
 
 ClusterIdsCheck::ClusterIdsCheck(ClusterIdsParams params, const Scenario& s, const Scene& initial,
                                  std::uint32_t frames)
-    : params_(std::move(params)) {
+    : params_(std::move(params)), initial_instances_(static_cast<std::uint32_t>(initial.instances.size())) {
   const std::uint64_t limit = params_.layout.id_limit();
   // Every mesh any frame uses: the scene after the last frame's events (spawns
   // append instances in event_order, so spawn k is instance initial + k).
@@ -112,10 +112,11 @@ std::vector<MeshClusterIds> ClusterIdsCheck::mesh_cluster_ids(const Scene& scene
 }
 
 nlohmann::json ClusterIdsCheck::record_frame(std::uint32_t frame, const std::vector<glm::uvec2>& packed,
-                                             const std::vector<std::uint32_t>& table) {
+                                             const std::vector<std::uint32_t>& table, const Scene& scene) {
   rendered_ = true;
   ++frames_drawn_;
   std::uint64_t mismatches = 0;
+  std::map<std::uint32_t, std::uint64_t> wrong_by_instance;  // by the instance channel
   for (const glm::uvec2& p : packed) {
     const bool miss_id = p.x == shader::VISIBILITY_MISS, miss_channel = p.y == shader::VISIBILITY_MISS;
     if (miss_id || miss_channel) {
@@ -123,7 +124,19 @@ nlohmann::json ClusterIdsCheck::record_frame(std::uint32_t frame, const std::vec
       continue;
     }
     const DecodedVisibility d = decode_packed_visibility(table, p.x);
-    mismatches += !d.valid || d.instance != p.y;
+    if (!d.valid || d.instance != p.y) ++mismatches, ++wrong_by_instance[p.y];
+  }
+  if (!wrong_by_instance.empty() && !rendered_overflow_) {
+    // Spawns append instances in event order: instance initial + k - 1 is spawn k.
+    const auto most = std::max_element(wrong_by_instance.begin(), wrong_by_instance.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    RenderedOverflow r;
+    r.frame = frame;
+    r.instance = most->first;
+    r.pixels = most->second;
+    r.spawn_number = r.instance >= initial_instances_ ? r.instance - initial_instances_ + 1 : 0;
+    r.name = r.instance < scene.instances.size() ? scene.instances[r.instance].name : "?";
+    rendered_overflow_ = r;
   }
   const std::uint64_t in_use = cluster_ids_in_use(table);
   const bool over = in_use > params_.layout.id_limit();
@@ -151,6 +164,12 @@ CheckResult ClusterIdsCheck::result() const {
     c.figures["decode_mismatches"] = mismatches_;
     c.figures["decode_mismatches_before_overflow"] = mismatches_before_overflow_;
     if (first_mismatch_frame_) c.figures["first_mismatch_frame"] = *first_mismatch_frame_;
+    if (rendered_overflow_) {
+      const RenderedOverflow& r = *rendered_overflow_;
+      c.figures["rendered_overflow"] = {{"frame", r.frame},        {"instance", r.name},
+                                        {"instance_index", r.instance}, {"spawn_number", r.spawn_number},
+                                        {"pixels", r.pixels}};
+    }
   }
   std::string msg;
   if (overflow_) {
@@ -168,6 +187,10 @@ CheckResult ClusterIdsCheck::result() const {
       c.first_failing_frame = first_mismatch_frame_;
     msg += fmt::format("{}{} pixels decode to another instance than the instance channel (first at frame {})",
                        msg.empty() ? "" : "; ", mismatches_, *first_mismatch_frame_);
+    if (rendered_overflow_ && rendered_overflow_->spawn_number > 0)
+      msg += fmt::format("; the rendered buffer names spawn {} (\"{}\", {} wrong pixels at frame {})",
+                         rendered_overflow_->spawn_number, rendered_overflow_->name, rendered_overflow_->pixels,
+                         rendered_overflow_->frame);
   }
   c.verdict = overflow_ || mismatches_ > 0 ? Verdict::fail : Verdict::pass;
   if (c.verdict == Verdict::pass)
@@ -198,7 +221,7 @@ class ClusterIdsPlugin final : public Check {
     renderer.set_cluster_ids(check_->mesh_cluster_ids(scene, geometry), params_.layout);
   }
   void observe(const FrameView& f, nlohmann::json& record) override {
-    record["cluster_ids"] = check_->record_frame(f.frame(), f.packed_visibility(), f.cluster_table());
+    record["cluster_ids"] = check_->record_frame(f.frame(), f.packed_visibility(), f.cluster_table(), f.scene());
   }
   CheckResult result() override { return check_->result(); }
   bool runs_alone() const override { return params_.count_only; }

@@ -67,9 +67,10 @@ class ClusterIdsCheck {
   // The renderer's ID space for `scene` (its meshes' DAGs) over its flattened geometry.
   std::vector<MeshClusterIds> mesh_cluster_ids(const Scene& scene, const FlatGeometry& geometry);
   // After frame `frame` is drawn: decoded IDs against the instance channel.
-  // packed: Renderer::packed_visibility(); table: Renderer::cluster_table().
+  // packed: Renderer::packed_visibility(); table: Renderer::cluster_table();
+  // scene: the frame's (names the instance whose pixels first decode wrong).
   nlohmann::json record_frame(std::uint32_t frame, const std::vector<glm::uvec2>& packed,
-                              const std::vector<std::uint32_t>& table);
+                              const std::vector<std::uint32_t>& table, const Scene& scene);
   CheckResult result() const;
 
  private:
@@ -84,6 +85,15 @@ class ClusterIdsCheck {
   bool rendered_ = false;
   std::uint64_t mismatches_ = 0, mismatches_before_overflow_ = 0;
   std::optional<std::uint32_t> first_mismatch_frame_;
+  // What the rendered buffer alone says: on the first frame with wrong
+  // pixels, the instance (channel) most of them belong to, and how many.
+  struct RenderedOverflow {
+    std::uint32_t frame = 0, instance = 0, spawn_number = 0;  // spawn_number 0: an initial instance
+    std::string name;
+    std::uint64_t pixels = 0;
+  };
+  std::optional<RenderedOverflow> rendered_overflow_;
+  std::uint32_t initial_instances_ = 0;
   std::uint32_t frames_drawn_ = 0, frames_over_limit_ = 0;
 };
 
