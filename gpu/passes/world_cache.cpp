@@ -224,7 +224,7 @@ void WorldCache::record_update(VkCommandBuffer cmd, GpuTimer& timer) {
   const std::uint32_t blocks = cells / WORLD_CACHE_SCAN_BLOCK;
 
   timer.begin(cmd, "world_cache_decay");
-  decay_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP), 1);
+  decay_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS), 1);
   timer.end(cmd);
   indirect_barrier(cmd);
 
@@ -273,7 +273,7 @@ void WorldCache::commit_pixel_queries(VkCommandBuffer cmd) {
 void WorldCache::record_stats(VkCommandBuffer cmd, GpuTimer& timer) {
   if (!settings_.stats) return;
   timer.begin(cmd, "world_cache_stats");
-  stats_pass_.dispatch(cmd, group_count(settings_.cells, WORLD_CACHE_CELL_GROUP), 1);
+  stats_pass_.dispatch(cmd, group_count(settings_.cells, WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS), 1);
   timer.end(cmd);
   indirect_barrier(cmd);
 }

@@ -7,9 +7,22 @@
 
 layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 
+void decay_cell(uint cell) {
+  wc_claims[cell] = WORLD_CACHE_NO_CLAIM;
+  uint life = wc_life[cell];
+  if (life == 0u) return;
+  life = world_cache_decayed_life(life);
+  wc_life[cell] = life;
+  if (life == 0u) {
+    wc_checksums[cell] = WORLD_CACHE_EMPTY_CELL;
+    wc_radiance[cell] = vec4(0.0);
+    wc_delta[cell] = 0.0;
+    wc_root_frame[cell] = 0u;
+  }
+}
+
 void main() {
-  uint cell = gl_GlobalInvocationID.x;
-  if (cell == 0u) {
+  if (gl_GlobalInvocationID.x == 0u) {
     wc_counters.gi_pending = uvec4(0u, 1u, 1u, 0u);
     wc_counters.pixel_pending = uvec4(0u, 1u, 1u, 0u);
     WorldCacheStats s;
@@ -27,16 +40,9 @@ void main() {
     s.pad2 = 0u;
     wc_stats = s;
   }
-  if (cell >= uint(WORLD_CACHE_CELLS)) return;
-  wc_claims[cell] = WORLD_CACHE_NO_CLAIM;
-  uint life = wc_life[cell];
-  if (life == 0u) return;
-  life = world_cache_decayed_life(life);
-  wc_life[cell] = life;
-  if (life == 0u) {
-    wc_checksums[cell] = WORLD_CACHE_EMPTY_CELL;
-    wc_radiance[cell] = vec4(0.0);
-    wc_delta[cell] = 0.0;
-    wc_root_frame[cell] = 0u;
+  const uint first = gl_WorkGroupID.x * WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS + gl_LocalInvocationID.x;
+  for (uint k = 0u; k < WORLD_CACHE_SWEEP_CELLS; ++k) {
+    const uint cell = first + k * WORLD_CACHE_CELL_GROUP;
+    if (cell < uint(WORLD_CACHE_CELLS)) decay_cell(cell);
   }
 }

@@ -12,9 +12,7 @@ layout(std140, set = 0, binding = BINDING_FRAME) uniform Frame { FrameConstants 
 
 layout(local_size_x = WORLD_CACHE_CELL_GROUP) in;
 
-void main() {
-  uint cell = gl_GlobalInvocationID.x;
-  if (cell >= uint(WORLD_CACHE_CELLS)) return;
+void cell_stats(uint cell) {
   // The same invocation also reads active-list entry `cell`: w = 1 marks one
   // the soft cap left out (world_cache_sample_di).
   if (cell < wc_counters.active_args.w && wc_new_radiance[cell].w == 0.0) atomicAdd(wc_stats.updated_cells, 1u);
@@ -40,4 +38,12 @@ void main() {
   if (!world_cache_age_ok(frame.resolution_frame.z, wc_root_frame[cell], uint(WORLD_CACHE_LIFETIME)))
     atomicAdd(wc_stats.over_age_cells, 1u);
 #endif
+}
+
+void main() {
+  const uint first = gl_WorkGroupID.x * WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS + gl_LocalInvocationID.x;
+  for (uint k = 0u; k < WORLD_CACHE_SWEEP_CELLS; ++k) {
+    const uint cell = first + k * WORLD_CACHE_CELL_GROUP;
+    if (cell < uint(WORLD_CACHE_CELLS)) cell_stats(cell);
+  }
 }
