@@ -124,6 +124,7 @@ void write_capture(const std::filesystem::path& dir, nlohmann::json manifest, gp
   write_png_preview(dir / "images.png", preview);
 
   manifest["schema_version"] = 1;
+  manifest["hash_scheme"] = shader::WORD_HASH_SCHEME;
   manifest["buffers"] = buffers;
   manifest["host_state"] = host_json;
   manifest["images"] = {{"file", "images.exr"}, {"layers", layer_names}, {"preview", "images.png"}};
@@ -158,12 +159,20 @@ Capture read_capture(const std::filesystem::path& dir) {
     for (const char* key : {"name", "file", "dtype", "hash"}) r.get(buffers[i], key, p, vt::string, "a string");
     r.get(buffers[i], "shape", p, vt::array, "an array of unsigned integers");
   }
+  c.hash_scheme = m.value("hash_scheme", std::string("xxh3-64"));
+  if (c.hash_scheme != shader::WORD_HASH_SCHEME && c.hash_scheme != "xxh3-64")
+    r.fail("/hash_scheme", fmt::format("\"{}\" or \"xxh3-64\"", shader::WORD_HASH_SCHEME));
   const nlohmann::json& host = r.get(m, "host_state", "", vt::array, "an array of {name, words}");
   for (std::size_t i = 0; i < host.size(); ++i) {
     r.get(host[i], "name", fmt::format("/host_state/{}", i), vt::string, "a string");
     r.get(host[i], "words", fmt::format("/host_state/{}", i), vt::array, "an array of 32-bit words");
   }
   return c;
+}
+
+std::string capture_bytes_hash(const Capture& capture, const void* data, std::size_t bytes) {
+  if (capture.hash_scheme == "xxh3-64") return fmt::format("{:016x}", XXH3_64bits(data, bytes));
+  return bytes_hash(data, bytes);
 }
 
 void restore_capture(const Capture& capture, gpu::Renderer& renderer) {
@@ -191,7 +200,7 @@ void restore_capture(const Capture& capture, gpu::Renderer& renderer) {
       throw InputError(file.string(), "",
                        fmt::format("dtype {} and shape {} as this pipeline's {} (got {} {})", b.dtype,
                                    nlohmann::json(b.shape).dump(), b.name, a.dtype, nlohmann::json(a.shape).dump()));
-    if (bytes_hash(a.data.data(), a.data.size()) != entry["hash"].get<std::string>())
+    if (capture_bytes_hash(capture, a.data.data(), a.data.size()) != entry["hash"].get<std::string>())
       spdlog::warn("{}: bytes differ from the manifest's hash {} (edited after the capture?); restoring them anyway",
                    file.string(), entry["hash"].get<std::string>());
     b.buffer->upload_bytes(a.data.data(), a.data.size());

@@ -70,7 +70,13 @@ struct Capture {
   std::filesystem::path dir;
   nlohmann::json manifest;
   std::uint32_t frame = 0;
+  // The hash of its manifest and run_hashes.jsonl: "gi-word-hash-v1", or
+  // "xxh3-64" for captures written before the GPU hashed (2026-12-03).
+  std::string hash_scheme;
 };
+
+// A capture's .npy bytes hashed as its manifest's scheme did.
+std::string capture_bytes_hash(const Capture& capture, const void* data, std::size_t bytes);
 
 // Reads and validates manifest.json (gi::InputError naming the file, the
 // JSON path and the expectation).

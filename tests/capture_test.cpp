@@ -4,6 +4,9 @@
 // on lavapipe).
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+#include <xxhash.h>
+
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -171,6 +174,32 @@ TEST(CaptureWorldCache, PerturbedCellIsCaughtByVerifyNamingFrameAndBuffer) {
   const nlohmann::json verify = test::read_json(out / "verify.json");
   EXPECT_EQ(verify["first_divergent_frame"], 30);
   EXPECT_EQ(verify["first_divergent_buffers"], nlohmann::json::array({"world_cache/radiance"}));
+}
+
+// A capture written before the GPU hashed (2026-12-03): its manifest has no
+// hash_scheme and XXH3-64 hashes. It still restores (its files check
+// against those hashes, no warning) and replays; --verify refuses it with
+// a clear error, since its run_hashes.jsonl cannot be compared.
+TEST_F(Capture60, AnXxh3CaptureReplaysAndRefusesVerify) {
+  const auto copy = dir_->path() / "legacy";
+  std::filesystem::copy(capture(), copy);
+  nlohmann::json m = test::read_json(copy / "manifest.json");
+  EXPECT_EQ(m["hash_scheme"], "gi-word-hash-v1");
+  m.erase("hash_scheme");
+  for (nlohmann::json& b : m["buffers"]) {
+    const NpyArray a = read_npy(copy / b["file"].get<std::string>());
+    b["hash"] = fmt::format("{:016x}", XXH3_64bits(a.data.data(), a.data.size()));
+  }
+  std::ofstream(copy / "manifest.json") << m.dump(1);
+  const test::CommandResult replay = test::run_giharness("replay " + copy.string() + " --frames 64 --out " +
+                                                         (dir_->path() / "legacy_replay").string());
+  EXPECT_TRUE(replay.exit_code == 0 || replay.exit_code == 1) << replay.output;
+  EXPECT_EQ(replay.output.find("bytes differ"), std::string::npos) << replay.output;
+  const test::CommandResult verify =
+      test::run_giharness("replay " + copy.string() + " --verify --out " + (dir_->path() / "legacy_verify").string());
+  EXPECT_EQ(verify.exit_code, 2) << verify.output;
+  EXPECT_NE(verify.output.find("xxh3-64"), std::string::npos) << verify.output;
+  EXPECT_NE(verify.output.find("/hash_scheme"), std::string::npos) << verify.output;
 }
 
 TEST_F(Capture60, EveryNpyHeaderMatchesTheManifest) {

@@ -7,12 +7,14 @@
 // frame and buffers: exit 0 identical, 1 divergent or nothing to compare.
 // Without --verify the exit code is the checks' (judged on the replayed
 // frames only).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "core/atomic_file.h"
 #include "core/check_catalog.h"
 #include "core/errors.h"
 #include "core/scenario.h"
+#include "core/shared/word_hash.h"
 #include "replay/capture.h"
 #include "replay/checks/determinism_check.h"
 #include "replay/cli/commands.h"
@@ -22,6 +24,12 @@ namespace gi {
 int run_replay_command(const ReplayOptions& o) {
   const Capture capture = read_capture(o.capture);
   const nlohmann::json& m = capture.manifest;
+  // This build hashes with WORD_HASH_SCHEME: an older capture's log cannot be compared.
+  if (o.verify && capture.hash_scheme != shader::WORD_HASH_SCHEME)
+    throw InputError((o.capture / "manifest.json").string(), "/hash_scheme",
+                     fmt::format("a capture hashed with {} to --verify against (this one's run_hashes.jsonl holds {} "
+                                 "hashes: replay it without --verify, or capture it again with this build)",
+                                 shader::WORD_HASH_SCHEME, capture.hash_scheme));
   const std::filesystem::path scenario_file = m["scenario"].value("file", (o.capture / "manifest.json").string());
   Scenario scenario = parse_scenario(m["scenario"]["document"], scenario_file);
   // Replay continues the run; it does not repeat its captures or its determinism repeats.
