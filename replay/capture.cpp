@@ -159,9 +159,9 @@ Capture read_capture(const std::filesystem::path& dir) {
     for (const char* key : {"name", "file", "dtype", "hash"}) r.get(buffers[i], key, p, vt::string, "a string");
     r.get(buffers[i], "shape", p, vt::array, "an array of unsigned integers");
   }
-  c.hash_scheme = m.value("hash_scheme", std::string("xxh3-64"));
-  if (c.hash_scheme != shader::WORD_HASH_SCHEME && c.hash_scheme != "xxh3-64")
-    r.fail("/hash_scheme", fmt::format("\"{}\" or \"xxh3-64\"", shader::WORD_HASH_SCHEME));
+  c.hash_scheme = m.value("hash_scheme", std::string(shader::XXH3_HASH_SCHEME));
+  if (c.hash_scheme != shader::WORD_HASH_SCHEME && c.hash_scheme != shader::XXH3_HASH_SCHEME)
+    r.fail("/hash_scheme", fmt::format("\"{}\" or \"{}\"", shader::WORD_HASH_SCHEME, shader::XXH3_HASH_SCHEME));
   const nlohmann::json& host = r.get(m, "host_state", "", vt::array, "an array of {name, words}");
   for (std::size_t i = 0; i < host.size(); ++i) {
     r.get(host[i], "name", fmt::format("/host_state/{}", i), vt::string, "a string");
@@ -171,7 +171,7 @@ Capture read_capture(const std::filesystem::path& dir) {
 }
 
 std::string capture_bytes_hash(const Capture& capture, const void* data, std::size_t bytes) {
-  if (capture.hash_scheme == "xxh3-64") return fmt::format("{:016x}", XXH3_64bits(data, bytes));
+  if (capture.hash_scheme == shader::XXH3_HASH_SCHEME) return fmt::format("{:016x}", XXH3_64bits(data, bytes));
   return bytes_hash(data, bytes);
 }
 

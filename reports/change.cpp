@@ -10,6 +10,7 @@
 #include "core/exr_io.h"
 #include "core/metrics.h"
 #include "core/png_preview.h"
+#include "core/shared/word_hash.h"
 #include "reports/figures.h"
 #include "reports/json_figures.h"
 
@@ -118,8 +119,8 @@ nlohmann::json detect_change(const ChangeInputs& in) {
     return {{"status", "no_exact_baseline"},
             {"reason", "the baseline keeps no hashes (written before change detection; run `baseline update`)"}};
   // Before the GPU computed them (issue 16), hashes were XXH3-64 of the same bytes.
-  const std::string base_scheme = base["hashes"].value("scheme", "xxh3-64");
-  const std::string run_scheme = s["hashes"].value("scheme", "xxh3-64");
+  const std::string base_scheme = base["hashes"].value("scheme", shader::XXH3_HASH_SCHEME);
+  const std::string run_scheme = s["hashes"].value("scheme", shader::XXH3_HASH_SCHEME);
   if (base_scheme != run_scheme)
     return {{"status", "no_exact_baseline"},
             {"reason", fmt::format("the baseline's hashes are {}, this run's {} (run `baseline update`)", base_scheme,

@@ -85,6 +85,9 @@ namespace gi::shader {
 // Names this hash where hashes are kept (summary.json's "hashes", baselines):
 // hashes of two schemes say nothing about each other's bits.
 inline constexpr const char* WORD_HASH_SCHEME = "gi-word-hash-v1";
+// What summaries, baselines and captures written before 2026-12-03 hashed
+// with (XXH3-64 of the bytes, on the CPU); their records name no scheme.
+inline constexpr const char* XXH3_HASH_SCHEME = "xxh3-64";
 
 // The lane sums of `bytes` bytes (a whole number of words; a last partial
 // word is zero-padded), as buffer_hash.comp accumulates them.

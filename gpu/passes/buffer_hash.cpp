@@ -63,9 +63,13 @@ void BufferHash::record(VkCommandBuffer cmd, const HashRange& range, std::uint32
   pass_.dispatch(cmd, gx, gy, 1, &push);
 }
 
-std::string BufferHash::result(std::uint32_t slot) const {
-  const glm::uvec2 sums = sums_host_->read<glm::uvec2>(1, slot)[0];
+// The slot's 16 hex digits from its lane sums and the words it hashed.
+std::string BufferHash::finished(glm::uvec2 sums, std::uint32_t slot) const {
   return word_hash_hex(word_hash_finish(sums, words_.at(slot)));
+}
+
+std::string BufferHash::result(std::uint32_t slot) const {
+  return finished(sums_host_->read<glm::uvec2>(1, slot)[0], slot);
 }
 
 void BufferHash::record_all(VkCommandBuffer cmd, const std::vector<HashRange>& ranges) {
@@ -79,7 +83,7 @@ std::vector<std::string> BufferHash::results(std::uint32_t count) const {
   if (count > words_.size()) throw DeviceError(fmt::format("BufferHash: {} results of {} slots", count, words_.size()));
   const std::vector<glm::uvec2> sums = sums_host_->read<glm::uvec2>(count);
   std::vector<std::string> out;
-  for (std::uint32_t i = 0; i < count; ++i) out.push_back(word_hash_hex(word_hash_finish(sums[i], words_[i])));
+  for (std::uint32_t i = 0; i < count; ++i) out.push_back(finished(sums[i], i));
   return out;
 }
 

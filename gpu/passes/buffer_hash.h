@@ -2,12 +2,14 @@
 // core/shared/word_hash.h): the per-frame image hashes, the state hashes of
 // the determinism check and replay's hash log, without reading the buffers
 // back. word_hash_bytes over the same bytes on the CPU gives the same
-// 16 hex digits (a capture's manifest uses it; tests/buffer_hash_test.cpp).
+// 16 hex digits (a capture's manifest uses it; tests/frame_output_test.cpp).
 #pragma once
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
@@ -50,6 +52,7 @@ class BufferHash {
   void ensure_slots(std::uint32_t slots);
 
  private:
+  std::string finished(glm::uvec2 sums, std::uint32_t slot) const;
 
   Device& device_;
   ComputePass pass_;

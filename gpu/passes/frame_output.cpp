@@ -1,7 +1,5 @@
 #include "gpu/passes/frame_output.h"
 
-#include <cstring>
-
 #include <fmt/format.h>
 
 #include "core/errors.h"
@@ -48,7 +46,7 @@ std::uint32_t checked_groups(std::uint32_t width, std::uint32_t height) {
 
 FrameOutput::FrameOutput(Device& device, ShaderCompiler& compiler, std::uint32_t width, std::uint32_t height,
                          Mode mode)
-    : device_(device), width_(width), height_(height), mode_(mode), pass_(make_pass(device, compiler, false)),
+    : width_(width), height_(height), mode_(mode), pass_(make_pass(device, compiler, false)),
       reduce_(make_pass(device, compiler, true)), hash_(device, compiler, 1),
       image_(device, std::size_t(pixels()) * 3 * sizeof(float), kStorage, "frame output image"),
       partials_(device, std::size_t(checked_groups(width, height)) * FRAME_SIGNALS * sizeof(double), kStorage,

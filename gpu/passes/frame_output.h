@@ -67,7 +67,6 @@ class FrameOutput {
   std::uint32_t pixels() const { return width_ * height_; }
   std::uint32_t signals() const;
 
-  Device& device_;
   std::uint32_t width_, height_;
   Mode mode_;
   ComputePass pass_, reduce_;
