@@ -41,12 +41,17 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   return s;
 }
 
-void apply_material_model(Scene& scene, const Profile& p) {
+std::uint32_t brdf_model_from_profile(const Profile& p) {
   const std::string& model = p.text("brdf.model");
-  scene.brdf_model = model == "layered"               ? shader::BRDF_LAYERED
-                     : model == "multiscatter_approx" ? shader::BRDF_MULTISCATTER_APPROX
-                                                      : shader::BRDF_SINGLE_SCATTER;
+  if (model == "multiscatter_approx") return shader::BRDF_MULTISCATTER_APPROX;
+  if (model == "layered_polynomial") return shader::BRDF_LAYERED_POLYNOMIAL;
+  if (model == "layered") return shader::BRDF_LAYERED;
+  if (model == "lobes_blended_f0") return shader::BRDF_LOBES_BLENDED_F0;
+  if (model == "lobes") return shader::BRDF_LOBES;
+  return shader::BRDF_SINGLE_SCATTER;
 }
+
+void apply_material_model(Scene& scene, const Profile& p) { scene.brdf_model = brdf_model_from_profile(p); }
 
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   gpu::WorldCacheSettings s;

@@ -22,6 +22,9 @@ gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInsta
 // encoding its direct samples see); the instrumentation flags are the caller's.
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& profile);
 
+// The profile's brdf.model as a BRDF_* of core/shared/brdf.h.
+std::uint32_t brdf_model_from_profile(const Profile& profile);
+
 // The profile's brdf.model on the scene, so the realtime passes and the
 // references judged against them shade with the same material model.
 void apply_material_model(Scene& scene, const Profile& profile);

@@ -7,9 +7,17 @@
 //   BRDF_SINGLE_SCATTER      Lambert + single-scatter GGX (the harness's earlier model)
 //   BRDF_MULTISCATTER_APPROX v0.17.0 / v0.18.0: the lobe × 1 + F0 (1/F_ab.x − 1) with
 //                            Karis's polynomial F_ab (bevy_pbr pbr_lighting.wgsl:324-335, 523-529)
+//   BRDF_LAYERED_POLYNOMIAL  between #23442 and #23737 (886ae0e5fa..5927c47b8d^): BRDF_LAYERED
+//                            with Karis's polynomial F_ab, clamped ≥ 5e-5 (bevy_pbr #22833)
 //   BRDF_LAYERED             v0.19.0 scene/brdf.wgsl:68-121: the diffuse lobe scaled by
 //                            (1 − F(n·l)) (1 − F(n·v)), Fresnel with f90 = 1, the lobe
 //                            × 1 + F0 (1/(F_ab.x + F_ab.y) − 1), F_ab from a DFG table (dfg_lut.h)
+//   BRDF_LOBES_BLENDED_F0    #24243 (370be1b02f:scene/brdf.wgsl:24-33): the diffuse lobe is
+//                            (1 − metallic)(1 − ρ_spec) base/π, ρ_spec the specular lobe's
+//                            hemispherical reflectance from F_ab, for the blended F0
+//   BRDF_LOBES               #24246 (4805ca792c:scene/brdf.wesl:24-34, 145-150): the metal and
+//                            the dielectric lobe evaluated apart and mixed by metallic, the
+//                            diffuse lobe from the dielectric's ρ_spec (Bevy main, 2026-08-22)
 #ifndef GI_SHARED_BRDF_H
 #define GI_SHARED_BRDF_H
 #include "host_device.h"
@@ -21,6 +29,12 @@ GI_SHADER_BEGIN
 GI_CONST uint BRDF_SINGLE_SCATTER = 0u;
 GI_CONST uint BRDF_MULTISCATTER_APPROX = 1u;
 GI_CONST uint BRDF_LAYERED = 2u;
+GI_CONST uint BRDF_LAYERED_POLYNOMIAL = 3u;
+GI_CONST uint BRDF_LOBES_BLENDED_F0 = 4u;
+GI_CONST uint BRDF_LOBES = 5u;
+
+// Every model from 0.19's on: Fresnel with f90 = 1, Filament's 1/(F_ab.x + F_ab.y).
+GI_FN bool brdf_model_is_layered(uint model) { return model >= BRDF_LAYERED; }
 
 // 0.18 clamps perceptual roughness to >= 0.0316 (roughness 0.001): below it
 // D_GGX overflows in float and zero roughness gives NaN (Solari 0.18 post).
@@ -29,9 +43,12 @@ GI_CONST float MIN_PERCEPTUAL_ROUGHNESS = 0.0316f;
 struct BrdfParams {
   vec3 diffuse_color;          // base_color * (1 - metallic)
   vec3 f0;                     // 0.16 reflectance² (1 - metallic) + base_color metallic
+  vec3 f0_dielectric;          // 0.16 reflectance²: BRDF_LOBES's dielectric lobe
+  vec3 f0_metal;               // base_color: BRDF_LOBES's metal lobe
+  float metallic;
   float alpha;                 // perceptual_roughness², after the clamp
   float perceptual_roughness;  // after the clamp: F_ab's second coordinate
-  uint model;                  // BRDF_SINGLE_SCATTER, BRDF_MULTISCATTER_APPROX or BRDF_LAYERED
+  uint model;                  // one of the BRDF_* above
 };
 
 // The clamp stays under every model. Bevy 0.19 drops it and treats α ≤ 0.001
@@ -42,7 +59,10 @@ GI_FN BrdfParams brdf_params(vec3 base_color, float metallic, float perceptual_r
                              uint model) {
   BrdfParams p;
   p.diffuse_color = base_color * (1.0f - metallic);
-  p.f0 = vec3(0.16f * reflectance * reflectance * (1.0f - metallic)) + base_color * metallic;
+  p.f0_dielectric = vec3(0.16f * reflectance * reflectance);
+  p.f0_metal = base_color;
+  p.metallic = metallic;
+  p.f0 = p.f0_dielectric * (1.0f - metallic) + base_color * metallic;
   float r = max(perceptual_roughness, MIN_PERCEPTUAL_ROUGHNESS);
   p.alpha = r * r;
   p.perceptual_roughness = r;
@@ -85,7 +105,7 @@ GI_FN vec3 F_Schlick_f90_one(vec3 f0, float VoH) {
 }
 
 GI_FN vec3 brdf_fresnel(BrdfParams p, float VoH) {
-  return p.model == BRDF_LAYERED ? F_Schlick_f90_one(p.f0, VoH) : F_Schlick(p.f0, VoH);
+  return brdf_model_is_layered(p.model) ? F_Schlick_f90_one(p.f0, VoH) : F_Schlick(p.f0, VoH);
 }
 
 // Karis's polynomial fit of the split-sum scale and bias, as bevy_pbr has it
@@ -98,20 +118,36 @@ GI_FN vec2 F_ab_polynomial(float perceptual_roughness, float NoV) {
   return vec2(-1.04f, 1.04f) * a004 + vec2(r.z, r.w);
 }
 
-// bevy_pbr's multiscatter factor (specular_multiscatter); 1 under the
-// single-scatter model. 0.17 and 0.18 divide by the scale alone,
+// F_ab under the material's model: the DFG table, or Karis's polynomial
+// (clamped ≥ 5e-5 from bevy_pbr #22833 on, the state #23737 replaced).
+GI_FN vec2 brdf_f_ab(BrdfParams p, float NoV) {
+  if (p.model == BRDF_LAYERED_POLYNOMIAL) return max(F_ab_polynomial(p.perceptual_roughness, NoV), vec2(5e-5f));
+  return dfg_lut_f_ab(NoV, p.perceptual_roughness);
+}
+
+// bevy_pbr's multiscatter factor (specular_multiscatter) for one F0; 1 under
+// the single-scatter model. 0.17 and 0.18 divide by the scale alone,
 // 1 + F0 (1/F_ab.x − 1) (v0.18.0 pbr_lighting.wgsl:324-335), so a rough
-// white metal reflects more than it receives; 0.19 divides by the
+// white metal reflects more than it receives; from 0.19 on it divides by the
 // single-scatter albedo F_ab.x + F_ab.y as Filament does (v0.19.0
 // pbr_lighting.wgsl:330-342, #23514).
-GI_FN vec3 energy_compensation(BrdfParams p, float NoV) {
+GI_FN vec3 energy_compensation_for(BrdfParams p, vec3 f0, float NoV) {
   if (p.model == BRDF_SINGLE_SCATTER) return vec3(1.0f);
-  if (p.model == BRDF_LAYERED) {
-    vec2 f_ab = dfg_lut_f_ab(NoV, p.perceptual_roughness);
-    return vec3(1.0f) + p.f0 * (1.0f / (f_ab.x + f_ab.y) - 1.0f);
+  if (brdf_model_is_layered(p.model)) {
+    vec2 f_ab = brdf_f_ab(p, NoV);
+    return vec3(1.0f) + f0 * (1.0f / (f_ab.x + f_ab.y) - 1.0f);
   }
   vec2 f_ab = F_ab_polynomial(p.perceptual_roughness, NoV);
-  return vec3(1.0f) + p.f0 * (1.0f / f_ab.x - 1.0f);
+  return vec3(1.0f) + f0 * (1.0f / f_ab.x - 1.0f);
+}
+
+GI_FN vec3 energy_compensation(BrdfParams p, float NoV) { return energy_compensation_for(p, p.f0, NoV); }
+
+// Hemispherical reflectance of the compensated specular lobe for one F0
+// (Bevy's lobe_reflectances, 370be1b02f:scene/brdf.wgsl:24-33).
+GI_FN vec3 specular_reflectance(BrdfParams p, vec3 f0, float NoV) {
+  vec2 f_ab = brdf_f_ab(p, NoV);
+  return (f0 * f_ab.x + vec3(f_ab.y)) * energy_compensation_for(p, f0, NoV);
 }
 
 // Cosines below this count as grazing; keeps every division finite.
@@ -128,25 +164,36 @@ GI_FN vec3 specular_lobe(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   vec3 h = normalize(v + l);
   float NoH = saturate(dot(n, h));
   float VoH = saturate(dot(v, h));
-  return D_GGX(p.alpha, NoH) * V_SmithGGXCorrelated(p.alpha, NoV, NoL) * brdf_fresnel(p, VoH) *
-         energy_compensation(p, NoV);
+  float dv = D_GGX(p.alpha, NoH) * V_SmithGGXCorrelated(p.alpha, NoV, NoL);
+  if (p.model == BRDF_LOBES) {
+    // #24246: each lobe with its own Fresnel and multiscatter factor.
+    vec3 dielectric = F_Schlick_f90_one(p.f0_dielectric, VoH) * energy_compensation_for(p, p.f0_dielectric, NoV);
+    vec3 metal = F_Schlick_f90_one(p.f0_metal, VoH) * energy_compensation_for(p, p.f0_metal, NoV);
+    return dv * mix(dielectric, metal, p.metallic);
+  }
+  return dv * brdf_fresnel(p, VoH) * energy_compensation(p, NoV);
 }
 
 // The diffuse lobe alone (Bevy: evaluate_diffuse_brdf, without the cosine).
-// v matters only under BRDF_LAYERED, whose lobe is what the two Fresnel
-// transmissions leave (scene/brdf.wgsl:89-99 at v0.19.0: zero below 1e-4).
+// v matters only under the layered models: 0.19's lobe is what the two
+// Fresnel transmissions leave (scene/brdf.wgsl:89-99 at v0.19.0: zero below
+// 1e-4), main's what the specular lobe does not reflect.
 GI_FN vec3 brdf_eval_diffuse(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   float NoL = dot(n, l);
-  if (p.model != BRDF_LAYERED) return NoL > 0.0f ? p.diffuse_color * INV_PI : vec3(0.0f);
+  if (!brdf_model_is_layered(p.model)) return NoL > 0.0f ? p.diffuse_color * INV_PI : vec3(0.0f);
   float NoV = dot(n, v);
   if (NoL < 0.0001f || NoV < 0.0001f) return vec3(0.0f);
+  // #24243 on: what the specular lobe does not reflect, for all l alike.
+  if (p.model == BRDF_LOBES_BLENDED_F0) return p.diffuse_color * INV_PI * (vec3(1.0f) - specular_reflectance(p, p.f0, NoV));
+  if (p.model == BRDF_LOBES)
+    return p.diffuse_color * INV_PI * (vec3(1.0f) - specular_reflectance(p, p.f0_dielectric, NoV));
   vec3 layering = (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoL)) * (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoV));
   return p.diffuse_color * INV_PI * layering;
 }
 
 // Whether the specular lobe can reflect anything: F0 > 0, or Fresnel's
 // grazing reflection under 0.19's f90 = 1 (then even reflectance 0 reflects).
-GI_FN bool brdf_has_specular(BrdfParams p) { return p.model == BRDF_LAYERED || max3(p.f0) > 0.0f; }
+GI_FN bool brdf_has_specular(BrdfParams p) { return brdf_model_is_layered(p.model) || max3(p.f0) > 0.0f; }
 
 // f(v, l) (without the cosine), n the shading normal facing v.
 GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
