@@ -80,6 +80,31 @@ TEST(BlendLagJudge, NoisyStaticWindowFails) {
   EXPECT_EQ(judge_blend_lag(p, {}, {{"output_luminance", v}}).verdict, Verdict::pass);
 }
 
+// The response: frames from the event to the first frame outside the old
+// level's band. A step on the event's frame responds at 0; the same step a
+// frame later at 1, which response_limit 0 fails and the lag alone cannot
+// tell apart.
+TEST(BlendLagJudge, AOneFrameLateResponseFailsAResponseLimitOfZero) {
+  BlendLagParams p;
+  p.steady_frames = 3;
+  const std::vector<double> on_time = step_curve(40, 4, 1.0, 10.0, 0.5);
+  std::vector<double> late = on_time;
+  late.insert(late.begin() + 4, 1.0);  // everything from the event one frame later
+  late.pop_back();
+  const CheckResult unjudged = judge_blend_lag(p, {4}, {{"output_luminance", late}});
+  EXPECT_EQ(unjudged.verdict, Verdict::pass) << unjudged.message;
+  EXPECT_EQ(unjudged.figures["max_response_frames"], 1);
+  p.response_limit = 0;
+  const CheckResult good = judge_blend_lag(p, {4}, {{"output_luminance", on_time}});
+  EXPECT_EQ(good.verdict, Verdict::pass) << good.message;
+  EXPECT_EQ(good.figures["max_response_frames"], 0);
+  const CheckResult bad = judge_blend_lag(p, {4}, {{"output_luminance", late}});
+  EXPECT_EQ(bad.verdict, Verdict::fail);
+  EXPECT_NE(bad.message.find("first moved 1 frame(s) after the event at frame 4 > 0"), std::string::npos)
+      << bad.message;
+  EXPECT_EQ(bad.first_failing_frame, 4u);
+}
+
 gpu::WorldCacheFrameStats stats(std::uint32_t active, std::uint32_t over_age, std::uint32_t oldest) {
   gpu::WorldCacheFrameStats s;
   s.active_cells = s.live_cells = active;
@@ -188,6 +213,21 @@ TEST(CacheChecksScenario, ClosedRoom018PassesAndFixedBlendLags) {
   expect_adaptive_passes_and_fixed_lags(good, fixed);
   std::cout << "closed room lag, 0.18: " << check(good, "blend_lag").figures["events"].dump() << "\n"
             << "closed room lag, fixed blend: " << check(fixed, "blend_lag").figures["events"].dump() << "\n";
+}
+
+// Bevy #21348: the cache reading last frame's light tiles answers a light
+// change a frame late (scenarios/bugs/bevy_21348_cache_reads_last_frames_tiles.json);
+// 0.18's order answers on the change's frame (cache_light_response_cornell.json).
+TEST(CacheChecksScenario, CacheAnswersALightChangeOnItsFrameUnlessItReadsLastFramesTiles) {
+  const RunResult fixed = run("cache_light_response_cornell.json", {}, "response_018");
+  const CheckResult& ok = check(fixed, "blend_lag");
+  EXPECT_EQ(ok.verdict, Verdict::pass) << ok.message;
+  EXPECT_EQ(ok.figures["max_response_frames"], 0);
+  const RunResult stale =
+      run("cache_light_response_cornell.json", {"world_cache.light_tiles_frame=previous"}, "response_previous");
+  const CheckResult& bad = check(stale, "blend_lag");
+  EXPECT_EQ(bad.verdict, Verdict::fail);
+  EXPECT_EQ(bad.figures["max_response_frames"], 1) << bad.message;
 }
 
 TEST(CacheChecksScenario, Sweep018PassesAndFullLifetimeRuleFails) {

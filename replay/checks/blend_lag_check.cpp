@@ -34,6 +34,11 @@ BlendLagParams blend_lag_params(const CheckSpec& spec, const Scenario& scenario)
   number("delta", 0.0, 1.0, p.delta);
   count("lag_limit", 0, p.lag_limit);
   count("steady_frames", 1, p.steady_frames);
+  if (j.contains("response_limit")) {
+    std::uint32_t limit = 0;
+    count("response_limit", 0, limit);
+    p.response_limit = limit;
+  }
   if (j.contains("signals")) {
     const nlohmann::json& s = j["signals"];
     const std::string path = spec.json_path + "/signals";
@@ -85,12 +90,13 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
   c.name = "blend_lag";
   c.limits = {{"lag_frames", params.lag_limit}, {"epsilon", params.epsilon}, {"delta", params.delta},
               {"steady_frames", params.steady_frames}};
+  if (params.response_limit) c.limits["response_frames"] = *params.response_limit;
   std::vector<std::string> failures;
   std::optional<std::uint32_t> first;
   auto fail_at = [&](std::uint32_t f) {
     if (!first || f < *first) first = f;
   };
-  std::uint32_t max_lag = 0;
+  std::uint32_t max_lag = 0, max_response = 0;
   double max_variation = 0.0;
   std::size_t judged = 0;  // events measured and frames held to δ
   nlohmann::json events = nlohmann::json::array();
@@ -130,9 +136,25 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
         const bool never = settled > end - K;
         const std::uint32_t lag = never ? std::uint32_t(end - begin) : std::uint32_t(settled - begin);
         max_lag = std::max(max_lag, lag);
+        // The first frame outside the old level's band.
+        std::uint32_t response = std::uint32_t(end - begin);
+        for (std::size_t t = begin; t < end; ++t)
+          if (std::abs(s[t] - level_old) > band) {
+            response = std::uint32_t(t - begin);
+            break;
+          }
+        max_response = std::max(max_response, response);
         ++judged;
         events.push_back({{"frame", begin}, {"signal", sig.name}, {"lag_frames", lag}, {"settled", !never},
-                          {"level_before", level_old}, {"level_after", level_new}});
+                          {"response_frames", response}, {"level_before", level_old}, {"level_after", level_new}});
+        if (params.response_limit && response > *params.response_limit) {
+          failures.push_back(fmt::format("{}: first moved {} frame(s) after the event at frame {} > {} ({:.4g} → "
+                                         "{:.4g} at frame {})",
+                                         sig.name, response, begin, *params.response_limit, level_old,
+                                         begin + response < end ? s[begin + response] : s[end - 1],
+                                         begin + response));
+          fail_at(std::uint32_t(begin + *params.response_limit));
+        }
         if (never || lag > params.lag_limit) {
           failures.push_back(never ? fmt::format("{}: not settled within {} frames of the event at frame {} "
                                                  "({:.4g} → {:.4g})",
@@ -159,7 +181,10 @@ CheckResult judge_blend_lag(const BlendLagParams& params, const std::vector<std:
       }
     }
   }
-  c.figures = {{"max_lag_frames", max_lag}, {"max_static_variation", max_variation}, {"events", events}};
+  c.figures = {{"max_lag_frames", max_lag},
+               {"max_response_frames", max_response},
+               {"max_static_variation", max_variation},
+               {"events", events}};
   c.first_failing_frame = first;
   c.verdict = failures.empty() ? Verdict::pass : Verdict::fail;
   if (failures.empty() && judged == 0) {
@@ -250,6 +275,12 @@ constexpr const char* kSchema = R"json({
       "minimum": 1,
       "maximum": 1000000,
       "description": "Frames averaged for a steady state: the last of each window (default 8)."
+    },
+    "response_limit": {
+      "type": "integer",
+      "minimum": 0,
+      "maximum": 1000000,
+      "description": "Largest allowed delay in frames from a lighting event to the first frame the signal leaves the epsilon band around its old level (default: recorded, not judged). 0: the event's own frame must show it, as Solari's pass order does since Bevy #21348."
     },
     "signals": {
       "type": "array",

@@ -13,9 +13,13 @@
 // event until the signal stays within ε · max(|old|, |new|) of it (old: the
 // mean of the `steady_frames` before the event). Passes when every lag ≤
 // `lag_limit` and, in every window from `lag_limit` frames after its start
-// on, |s(t) − s(t − 1)| ≤ δ · that window's level.
+// on, |s(t) − s(t − 1)| ≤ δ · that window's level. The response is the
+// frames from the event until the signal first leaves the old level's band
+// (the same ε); with `response_limit` set, a later response fails: a
+// one-frame delay is far below what the lag resolves.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +33,10 @@ struct BlendLagParams {
   double delta = 0.02;              // frame-to-frame variation in static windows, relative to the level
   std::uint32_t lag_limit = 10;     // frames
   std::uint32_t steady_frames = 8;  // frames averaged for a steady state
+  // Largest delay from an event to the first frame outside the old level's
+  // band (none: recorded, not judged). 0 asks the event's own frame to show
+  // it, as Solari's pass order does since #21348.
+  std::optional<std::uint32_t> response_limit;
   // The signals judged (every available one is recorded per frame either way).
   std::vector<std::string> signals = {"output_luminance"};
 };
