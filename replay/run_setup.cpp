@@ -61,13 +61,14 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     checks.push_back(make_check(context));
     needs.push_back(checks.back()->needs());
   }
-  bool gbuffer = false, two_chains = scenario.noise, root_frame = false;
+  bool gbuffer = false, two_chains = scenario.noise, root_frame = false, temporal_edges = false;
   for (const CheckNeeds& n : needs) {
     captures.insert(n.captures.begin(), n.captures.end());
     record_hashes = record_hashes || n.record_hashes;
     gbuffer = gbuffer || n.gbuffer;
     two_chains = two_chains || n.two_chains;
     root_frame = root_frame || n.cache_root_frame;
+    temporal_edges = temporal_edges || n.gi_temporal_edges;
     warmup_frames = std::max(warmup_frames, n.warmup_frames);
   }
   // Captures carry the run's hashes (replay --verify), replays record theirs.
@@ -86,7 +87,10 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
                                     gi && profile.flag("specular.enabled"));
   }
-  if (gi) r.gi = gi_settings_from_profile(profile, chains);
+  if (gi) {
+    r.gi = gi_settings_from_profile(profile, chains);
+    r.gi->temporal_edge_stats = temporal_edges;  // compiled in only for a check that reads it
+  }
   if (cache_fed) {
     gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
     cache.view = scenario.cache_view;

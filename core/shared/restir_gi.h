@@ -133,8 +133,8 @@ struct GiStats {
   uint nonfinite_jacobians;   // raw J that was inf or NaN (sanitised to 0)
   uint nonfinite_reservoirs;  // stored reservoirs with a non-finite W or radiance
   uint nonfinite_output;      // output pixels (GI or specular) with a non-finite value
-  uint merged_pixels;         // unused slot kept for alignment
-  uint pad;
+  uint temporal_edge_pixels;  // GI_TEMPORAL_EDGE_STATS: chain A's edge pixels with an on-screen history
+  uint temporal_edge_reused;  // of those, the pixels whose temporal reuse found a usable history
   uint histogram[32];         // log2(J) of accepted merges, one bin per power of two
 };
 

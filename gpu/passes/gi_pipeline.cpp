@@ -110,6 +110,8 @@ GiFrameStats GiPipeline::stats() const {
   f.nonfinite_jacobians = s.nonfinite_jacobians;
   f.nonfinite_reservoirs = s.nonfinite_reservoirs;
   f.nonfinite_output = s.nonfinite_output;
+  f.temporal_edge_pixels = s.temporal_edge_pixels;
+  f.temporal_edge_reused = s.temporal_edge_reused;
   f.log2_j_histogram.assign(std::begin(s.histogram), std::end(s.histogram));
   return f;
 }

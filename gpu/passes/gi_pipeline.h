@@ -24,6 +24,9 @@ struct GiFrameStats {
   std::uint32_t merges = 0, rejections = 0;
   float max_accepted_j = 0.0f;
   std::uint32_t nonfinite_jacobians = 0, nonfinite_reservoirs = 0, nonfinite_output = 0;
+  // With GiSettings::temporal_edge_stats: chain A's edge pixels that had an
+  // on-screen history, and those whose temporal reuse found it usable.
+  std::uint32_t temporal_edge_pixels = 0, temporal_edge_reused = 0;
   std::vector<std::uint32_t> log2_j_histogram;  // bin b: 2^(b−16) ≤ J < 2^(b−15); bin 0 holds J = 0
 };
 

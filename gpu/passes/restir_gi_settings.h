@@ -25,6 +25,10 @@ struct GiSettings {
   // threshold; "one" (0.17, 0.18): the other sample's only.
   bool jacobian_both = false;
   bool temporal_permutation = true;
+  // Instrumentation, compiled in only for a check that reads it
+  // (temporal_acceptance): chain A's temporal reuse at edge pixels, counted
+  // into GiStats.temporal_edge_pixels / temporal_edge_reused.
+  bool temporal_edge_stats = false;
   // What temporal reuse does when the permuted pixel is unusable
   // (restir_gi.temporal_fallback): none (one try), point (Solari 0.18: the
   // unpermuted reprojection when the permuted surface differs or its

@@ -93,6 +93,21 @@ bool gi_dissimilar(GiPixel d, vec3 other_position, vec3 other_normal) {
                           GI_NORMAL_MIN_DOT);
 }
 
+// An edge pixel: one of its four neighbours this frame is a miss or a surface
+// reuse would refuse as dissimilar (the test above). Where the temporal_acceptance
+// check counts reuse (GI_TEMPORAL_EDGE_STATS).
+bool gi_pixel_at_edge(GiPixel d, uvec2 pixel) {
+  const ivec2 size = ivec2(frame.resolution_frame.xy);
+  const ivec2 steps[4] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+  for (int i = 0; i < 4; ++i) {
+    ivec2 p = ivec2(pixel) + steps[i];
+    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size))) continue;
+    GiPixel o = gi_pixel(uvec2(p));
+    if (!o.hit || gi_dissimilar(d, o.position, o.ns)) return true;
+  }
+  return false;
+}
+
 // The query ids of the GI passes' pixel-rooted cache queries: after the cache
 // view's (the pixel indices), the initial samples' per chain, then specular
 // GI's per chain; unique within the pending list they share (lowest id wins a slot).

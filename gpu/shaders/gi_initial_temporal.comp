@@ -110,6 +110,12 @@ void main() {
 #else
       bool found = gi_temporal_candidate(d, q, chain, temporal, s);
 #endif
+#if GI_TEMPORAL_EDGE_STATS != 0
+      if (chain == 0u && gi_pixel_at_edge(d, pixel)) {
+        atomicAdd(gi_stats.temporal_edge_pixels, 1u);
+        if (found) atomicAdd(gi_stats.temporal_edge_reused, 1u);
+      }
+#endif
       if (found) {
         temporal.sample_position.w = min(temporal.sample_position.w, float(GI_CONFIDENCE_CAP));
         // Last frame's surface is this pixel's (or a permuted neighbour's, at most
