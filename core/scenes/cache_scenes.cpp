@@ -99,4 +99,27 @@ Scene make_cache_open_field() {
   return s;
 }
 
+// 6 × 2.5 × 4 m, split at z = 0 by a 2 cm wall; a 0.8 × 2 m doorway at its
+// +x end lets a little light into the near room (z > 0), so the wall's near
+// side is dark but not black in the path tracer. The panel over the far room
+// is the only light.
+Scene make_leak_thin_wall() {
+  Scene s;
+  s.name = "leak_thin_wall";
+  add_object(s, box_mesh("shell", {-3.0f, 0.0f, -2.0f}, {3.0f, 2.5f, 2.0f}, true),
+             lambert_material("shell", glm::vec3(0.6f, 0.58f, 0.55f)));
+  const glm::vec3 wall_colour(0.6f, 0.6f, 0.6f);
+  add_object(s, box_mesh("wall", {-3.0f, 0.0f, -0.01f}, {1.8f, 2.5f, 0.01f}), lambert_material("wall", wall_colour));
+  add_object(s, box_mesh("wall_end", {2.6f, 0.0f, -0.01f}, {3.0f, 2.5f, 0.01f}), lambert_material("wall_end", wall_colour));
+  add_object(s, box_mesh("lintel", {1.8f, 2.0f, -0.01f}, {2.6f, 2.5f, 0.01f}), lambert_material("lintel", wall_colour));
+  Mesh light{"light"};
+  add_quad(light, {-1.5f, 2.48f, -1.5f}, {0.5f, 2.48f, -1.5f}, {0.5f, 2.48f, -0.5f}, {-1.5f, 2.48f, -0.5f},
+           {-0.5f, 0.0f, -1.0f});
+  add_object(s, std::move(light), emitter_material("light", glm::vec3(20.0f, 19.0f, 17.0f)));
+  s.camera.position = {-1.0f, 1.3f, 1.9f};
+  s.camera.target = {-0.6f, 0.8f, 0.0f};
+  s.camera.vertical_fov_degrees = 70.0f;
+  return s;
+}
+
 }  // namespace gi

@@ -8,6 +8,10 @@
 //                       ("sun", directional); a camera walks out and back.
 //   cache_open_field  : a 400 × 400 m field of blocks under a sun: far
 //                       surfaces fall into coarse LOD cells.
+//   leak_thin_wall    : two rooms split by a 2 cm wall with a doorway at one
+//                       end; a panel lights the far room only, and the camera
+//                       looks at the wall's dark side, which the world cache's
+//                       cells (15-25 cm) straddle (the light_leak check).
 #pragma once
 #include "core/scene.h"
 
@@ -16,5 +20,6 @@ namespace gi {
 Scene make_cache_closed_room();
 Scene make_cache_room_and_yard();
 Scene make_cache_open_field();
+Scene make_leak_thin_wall();
 
 }  // namespace gi

@@ -1,0 +1,201 @@
+// The light_leak check (issue 23; Bevy #22252, #22348, #24332, #23968): light
+// where the reference has shadow. Leaks through thin walls and into corners
+// (world-cache cells keyed past a wall, cells larger than the gap they span,
+// neighbours reused across an occluder) add light to regions the path
+// tracer leaves dark, and a whole-image energy ratio hides them: the
+// shadowed side is a small share of the image's energy, and the same bugs
+// often darken the lit side.
+//
+// On each judged frame the realtime temporal mean of the two chains is
+// compared with the Embree full path tracer (the reference check's renders
+// and cache) over the shadowed region only: the pixels whose reference
+// luminance is below `shadow_fraction` of the reference's mean. Fails when
+// the realtime energy there exceeds the reference's by more than
+// `max_excess` plus three standard deviations of both estimators' noise.
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "core/cache_root.h"
+#include "core/errors.h"
+#include "core/json_reader.h"
+#include "replay/checks/check_registry.h"
+#include "replay/checks/reference_check.h"
+#include "replay/run_scenario.h"
+#include "reports/json_figures.h"
+
+namespace gi {
+namespace {
+
+double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+Image average(const Image& a, const Image& b) {
+  Image m(a.width, a.height);
+  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+  return m;
+}
+
+// Every image with the pixels outside `region` set to zero, so the shared
+// comparison (core/metrics.h) measures the region alone.
+Image masked(const Image& image, const std::vector<bool>& region) {
+  Image m = image;
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (!region[i]) m.pixels[i] = glm::vec3(0.0f);
+  return m;
+}
+
+struct LeakParams {
+  ReferenceCheckParams reference;  // frames, spp, warmup_frames
+  double shadow_fraction = 0.2;
+  double max_excess = 0.1;
+};
+
+LeakParams leak_params(const CheckContext& c) {
+  if (!c.realtime || !c.gi)
+    c.refuse("", "compares the full realtime image (\"mode\": \"realtime\", \"gi\": true) with the path tracer");
+  LeakParams p;
+  p.reference.spp = 256;
+  p.reference.frames = {c.frames - 1};
+  const JsonReader r(c.scenario.file.string());
+  const nlohmann::json& j = c.spec.params;
+  const std::string& at = c.spec.json_path;
+  if (j.contains("frames")) {
+    p.reference.frames.clear();
+    const nlohmann::json& f = r.array(j["frames"], at + "/frames", 1);
+    for (std::size_t i = 0; i < f.size(); ++i)
+      p.reference.frames.push_back(r.uint(f[i], JsonReader::at(at + "/frames", i), 0, c.frames - 1));
+  }
+  if (j.contains("spp")) p.reference.spp = r.uint(j["spp"], at + "/spp", 2, 1u << 24);
+  if (j.contains("warmup_frames")) p.reference.warmup_frames = r.uint(j["warmup_frames"], at + "/warmup_frames", 0, 1u << 24);
+  if (j.contains("shadow_fraction"))
+    p.shadow_fraction = (r.number(j["shadow_fraction"], at + "/shadow_fraction", 0.0, 1.0), j["shadow_fraction"].get<double>());
+  if (j.contains("max_excess"))
+    p.max_excess = (r.number(j["max_excess"], at + "/max_excess", 0.0, 1e6), j["max_excess"].get<double>());
+  return p;
+}
+
+struct LeakFrame {
+  std::uint32_t frame = 0, window_frames = 0;
+  std::size_t pixels = 0;
+  double energy_ratio = 0.0, sigma = 0.0, whole_image_ratio = 0.0;
+  bool leaks = false;
+  std::string evidence;
+};
+
+class LightLeakCheck final : public Check, ReferenceComparisons {
+ public:
+  explicit LightLeakCheck(const CheckContext& c) : LightLeakCheck(c, leak_params(c)) {}
+
+  CheckNeeds needs() const override {
+    return {.reads = {FrameInput::chains},
+            .frames = std::set<std::uint32_t>(params_.frames.begin(), params_.frames.end()),
+            .two_chains = true,
+            .warmup_frames = params_.warmup_frames};
+  }
+
+  void observe(const FrameView& f, nlohmann::json& record) override {
+    const Image mean_a = f.chain_mean(0), mean_b = f.chain_mean(1);
+    const Reference ref = reference(f.scene(), mean_a.width, mean_a.height, false);
+    double ref_sum = 0.0;
+    for (const glm::vec3& p : ref.mean.pixels) ref_sum += lum(p);
+    const double threshold = leak_.shadow_fraction * ref_sum / double(ref.mean.size());
+    std::vector<bool> region(ref.mean.size());
+    std::size_t pixels = 0;
+    for (std::size_t i = 0; i < region.size(); ++i) pixels += region[i] = lum(ref.mean.pixels[i]) < threshold;
+    const Image mean = average(mean_a, mean_b);
+    const Comparison whole = compare(mean, mean_a, mean_b, ref.mean, ref.half_a, ref.half_b);
+    const Comparison c = compare(masked(mean, region), masked(mean_a, region), masked(mean_b, region),
+                                 masked(ref.mean, region), masked(ref.half_a, region), masked(ref.half_b, region));
+    LeakFrame l{f.frame(), f.chain_window_frames(), pixels, c.energy_ratio, c.energy_ratio_sigma, whole.energy_ratio};
+    l.leaks = pixels > 0 && c.energy_ratio - 1.0 > leak_.max_excess + Comparison::kNoiseMargin * c.energy_ratio_sigma;
+    record["light_leak"] = {{"shadowed_pixels", pixels}, {"energy_ratio", json_figure(c.energy_ratio)}};
+    frames_.push_back(l);
+  }
+
+  CheckResult result() override {
+    CheckResult r;
+    r.name = "light_leak";
+    r.limits = {{"shadow_fraction", leak_.shadow_fraction}, {"max_excess", leak_.max_excess},
+                {"noise_margin_sigma", Comparison::kNoiseMargin}, {"spp", params_.spp}};
+    nlohmann::json list = nlohmann::json::array();
+    const LeakFrame* worst = nullptr;
+    for (const LeakFrame& l : frames_) {
+      list.push_back({{"frame", l.frame},
+                      {"window_frames", l.window_frames},
+                      {"shadowed_pixels", l.pixels},
+                      {"shadowed_energy_ratio", json_figure(l.energy_ratio)},
+                      {"shadowed_energy_ratio_sigma", json_figure(l.sigma)},
+                      {"whole_image_energy_ratio", json_figure(l.whole_image_ratio)}});
+      if (l.leaks && !r.first_failing_frame) r.first_failing_frame = l.frame;
+      if (!worst || l.energy_ratio > worst->energy_ratio) worst = &l;
+    }
+    r.figures = {{"frames", list}};
+    if (!worst || worst->pixels == 0) {
+      r.verdict = Verdict::inconclusive;
+      r.message = "no judged frame had a shadowed region (reference luminance below shadow_fraction of its mean)";
+      return r;
+    }
+    r.figures["max_shadowed_energy_ratio"] = json_figure(worst->energy_ratio);
+    r.verdict = r.first_failing_frame ? Verdict::fail : Verdict::pass;
+    r.message = fmt::format("frame {}: in the shadowed region ({} pixels with reference luminance below {:.2f} of its "
+                            "mean) the realtime image has {:.3f} of the path tracer's energy (1 sigma {:.3f}; limit "
+                            "1 + {:.2f} + 3 sigma; whole image {:.3f}){}",
+                            worst->frame, worst->pixels, leak_.shadow_fraction, worst->energy_ratio, worst->sigma,
+                            leak_.max_excess, worst->whole_image_ratio,
+                            r.verdict == Verdict::fail ? ": light leaks into shadow" : "");
+    return r;
+  }
+
+ private:
+  LightLeakCheck(const CheckContext& c, LeakParams p)
+      : ReferenceComparisons(p.reference, c.seed, cache_root() / "reference", c.options.out_dir), leak_(std::move(p)) {}
+
+  LeakParams leak_;
+  std::vector<LeakFrame> frames_;
+};
+
+constexpr const char* kSchema = R"json({
+  "type": "object",
+  "additionalProperties": false,
+  "description": "Light where the path tracer has shadow (issue 23; Bevy #22252, #22348, #24332): on each judged frame, the realtime temporal mean of the two chains against the Embree full path tracer over the shadowed region only (reference luminance below shadow_fraction of its mean); fails when the realtime energy there exceeds the reference's by more than max_excess + 3 sigma. Realtime mode with \"gi\": true.",
+  "properties": {
+    "name": {
+      "const": "light_leak"
+    },
+    "frames": {
+      "type": "array",
+      "minItems": 1,
+      "items": {
+        "$ref": "#/$defs/frame"
+      },
+      "description": "Frames judged (default: the last)."
+    },
+    "spp": {
+      "type": "integer",
+      "minimum": 2,
+      "maximum": 16777216,
+      "description": "Reference samples per pixel (default 256; the reference check's renders are shared through the cache)."
+    },
+    "warmup_frames": {
+      "type": "integer",
+      "minimum": 0,
+      "description": "Frames after the start of each static window left out of the temporal mean (default 0)."
+    },
+    "shadow_fraction": {
+      "type": "number",
+      "minimum": 0,
+      "maximum": 1,
+      "description": "The shadowed region: pixels whose reference luminance is below this fraction of the reference's mean (default 0.2)."
+    },
+    "max_excess": {
+      "type": "number",
+      "minimum": 0,
+      "description": "Largest allowed excess of realtime over reference energy in the shadowed region, beyond 3 sigma of noise (default 0.1)."
+    }
+  }
+})json";
+
+const RegisteredCheck<LightLeakCheck> kRegistration{{"light_leak", kSchema, {}}};
+
+}  // namespace
+}  // namespace gi
