@@ -16,13 +16,7 @@
 namespace gi {
 namespace {
 
-nlohmann::json furnace(const std::filesystem::path& out) {
-  const nlohmann::json summary = test::read_json(out / "summary.json");
-  for (const auto& c : summary.at("checks"))
-    if (c.at("name") == "furnace") return c;
-  ADD_FAILURE() << "no furnace result in " << out;
-  return {};
-}
+nlohmann::json furnace(const std::filesystem::path& out) { return test::check_result(out, "furnace"); }
 
 struct Piece {
   const char* bug;   // scenarios/bugs/<bug>.json
@@ -75,11 +69,9 @@ TEST(FurnaceCheck, QuadratureMeetsClosedForms) {
 // scenario renders, and the furnace adds its verdict.
 TEST(FurnaceCheck, BesideDrawnChecksTheRunStillDraws) {
   test::TempDir dir("furnace_beside");
-  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/furnace_metal_after_23737.json");
-  doc.erase("$schema");
-  doc["checks"].push_back({{"name", "finite"}});
-  const auto file = dir.path() / "furnace_and_finite.json";
-  std::ofstream(file) << doc.dump(1);
+  const auto file = test::write_scenario_variant("scenarios/furnace_metal_after_23737.json", dir.path(),
+                                                 "furnace_and_finite.json",
+                                                 [](nlohmann::json& doc) { doc["checks"].push_back({{"name", "finite"}}); });
   const auto r = test::run_giharness("run " + file.string() + " --out " + (dir.path() / "out").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json s = test::read_json(dir.path() / "out" / "summary.json");
@@ -90,11 +82,8 @@ TEST(FurnaceCheck, BesideDrawnChecksTheRunStillDraws) {
 
 TEST(FurnaceCheck, BadParametersAreExitTwoWithTheirPath) {
   test::TempDir dir("furnace_bad");
-  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/furnace_metal_after_23737.json");
-  doc.erase("$schema");
-  doc["checks"][0]["metallic"] = {0.0, 1.5};
-  const auto file = dir.path() / "bad.json";
-  std::ofstream(file) << doc.dump(1);
+  const auto file = test::write_scenario_variant("scenarios/furnace_metal_after_23737.json", dir.path(), "bad.json",
+                                                 [](nlohmann::json& doc) { doc["checks"][0]["metallic"] = {0.0, 1.5}; });
   const auto r = test::run_giharness("run " + file.string() + " --out " + (dir.path() / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("/checks/0/metallic/1"), std::string::npos) << r.output;

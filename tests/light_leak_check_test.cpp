@@ -13,13 +13,7 @@
 namespace gi {
 namespace {
 
-nlohmann::json leak(const std::filesystem::path& out) {
-  const nlohmann::json summary = test::read_json(out / "summary.json");
-  for (const auto& c : summary.at("checks"))
-    if (c.at("name") == "light_leak") return c;
-  ADD_FAILURE() << "no light_leak result";
-  return {};
-}
+nlohmann::json leak(const std::filesystem::path& out) { return test::check_result(out, "light_leak"); }
 
 double shadowed_ratio(const nlohmann::json& c) { return c["figures"]["max_shadowed_energy_ratio"].get<double>(); }
 
@@ -51,11 +45,8 @@ TEST(LightLeakCheck, JitteredCacheLeaksThroughAThinWallAndTheFixDoesNot) {
 
 TEST(LightLeakCheck, RefusedWithoutGi) {
   test::TempDir dir("light_leak_bad");
-  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/leak_thin_wall.json");
-  doc.erase("$schema");
-  doc["gi"] = false;
-  const auto file = dir.path() / "no_gi.json";
-  std::ofstream(file) << doc.dump(1);
+  const auto file = test::write_scenario_variant("scenarios/leak_thin_wall.json", dir.path(), "no_gi.json",
+                                                 [](nlohmann::json& doc) { doc["gi"] = false; });
   const auto r = test::run_giharness("run " + file.string() + " --out " + (dir.path() / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("/checks/1"), std::string::npos) << r.output;

@@ -13,13 +13,7 @@
 namespace gi {
 namespace {
 
-nlohmann::json acceptance(const std::filesystem::path& out) {
-  const nlohmann::json summary = test::read_json(out / "summary.json");
-  for (const auto& c : summary.at("checks"))
-    if (c.at("name") == "temporal_acceptance") return c;
-  ADD_FAILURE() << "no temporal_acceptance result";
-  return {};
-}
+nlohmann::json acceptance(const std::filesystem::path& out) { return test::check_result(out, "temporal_acceptance"); }
 
 TEST(TemporalAcceptanceCheck, FailsWithoutTheFallbackAndPassesWithIt) {
   test::TempDir dir("temporal_acceptance");
@@ -51,14 +45,13 @@ TEST(TemporalAcceptanceCheck, FailsWithoutTheFallbackAndPassesWithIt) {
 // without the check.
 TEST(TemporalAcceptanceCheck, CountingLeavesTheImageAlone) {
   test::TempDir dir("temporal_acceptance_bits");
-  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/gi_edge_reuse_cornell.json");
-  doc.erase("$schema");
-  doc["frames"] = 3;
-  const auto with = dir.path() / "with.json";
-  std::ofstream(with) << doc.dump(1);
-  doc["checks"] = {{{"name", "finite"}}};
-  const auto without = dir.path() / "without.json";
-  std::ofstream(without) << doc.dump(1);
+  const std::string scenario = "scenarios/gi_edge_reuse_cornell.json";
+  const auto with = test::write_scenario_variant(scenario, dir.path(), "with.json",
+                                                 [](nlohmann::json& doc) { doc["frames"] = 3; });
+  const auto without = test::write_scenario_variant(scenario, dir.path(), "without.json", [](nlohmann::json& doc) {
+    doc["frames"] = 3;
+    doc["checks"] = {{{"name", "finite"}}};
+  });
   ASSERT_EQ(test::run_giharness("run " + with.string() + " --out " + (dir.path() / "a").string()).exit_code, 0);
   ASSERT_EQ(test::run_giharness("run " + without.string() + " --out " + (dir.path() / "b").string()).exit_code, 0);
   const nlohmann::json a = test::read_json(dir.path() / "a" / "summary.json");
@@ -72,11 +65,8 @@ TEST(TemporalAcceptanceCheck, CountingLeavesTheImageAlone) {
 
 TEST(TemporalAcceptanceCheck, RefusedWithoutGi) {
   test::TempDir dir("temporal_acceptance_bad");
-  nlohmann::json doc = test::read_json(test::source_dir() / "scenarios/gi_edge_reuse_cornell.json");
-  doc.erase("$schema");
-  doc["gi"] = false;
-  const auto file = dir.path() / "no_gi.json";
-  std::ofstream(file) << doc.dump(1);
+  const auto file = test::write_scenario_variant("scenarios/gi_edge_reuse_cornell.json", dir.path(), "no_gi.json",
+                                                 [](nlohmann::json& doc) { doc["gi"] = false; });
   const auto r = test::run_giharness("run " + file.string() + " --out " + (dir.path() / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("/checks/0"), std::string::npos) << r.output;

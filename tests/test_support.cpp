@@ -6,6 +6,8 @@
 
 #include <sys/wait.h>
 
+#include <gtest/gtest.h>
+
 #include "core/errors.h"
 #include "core/scene_flatten.h"
 #include "gpu/device.h"
@@ -35,6 +37,26 @@ CommandResult run_giharness(const std::string& args, const std::string& env) {
 nlohmann::json read_json(const std::filesystem::path& file) {
   std::ifstream in(file);
   return nlohmann::json::parse(in);
+}
+
+nlohmann::json check_result(const std::filesystem::path& out, const std::string& name) {
+  const nlohmann::json summary = read_json(out / "summary.json");
+  if (summary.contains("checks"))
+    for (const auto& c : summary["checks"])
+      if (c.value("name", "") == name) return c;
+  ADD_FAILURE() << "no " << name << " result in " << out;
+  return nullptr;
+}
+
+std::filesystem::path write_scenario_variant(const std::string& scenario, const std::filesystem::path& dir,
+                                             const std::string& file_name,
+                                             const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json doc = read_json(source_dir() / scenario);
+  doc.erase("$schema");
+  edit(doc);
+  const std::filesystem::path file = dir / file_name;
+  std::ofstream(file) << doc.dump(1);
+  return file;
 }
 
 std::string read_text(const std::filesystem::path& file) {

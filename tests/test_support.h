@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <string>
 #include <system_error>
@@ -61,6 +62,17 @@ class TempDir {
 };
 
 nlohmann::json read_json(const std::filesystem::path& file);
+
+// The result of check `name` in <out>/summary.json (a test failure, and
+// null, when the run has none).
+nlohmann::json check_result(const std::filesystem::path& out, const std::string& name);
+
+// A repository scenario (path relative to the source tree), changed by
+// `edit` and written to <dir>/<file_name> without its "$schema"; returns the
+// file's path.
+std::filesystem::path write_scenario_variant(const std::string& scenario, const std::filesystem::path& dir,
+                                             const std::string& file_name,
+                                             const std::function<void(nlohmann::json&)>& edit);
 // The file's bytes (empty when it cannot be read).
 std::string read_text(const std::filesystem::path& file);
 

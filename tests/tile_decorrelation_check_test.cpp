@@ -15,13 +15,7 @@ namespace {
 
 const std::string kBug = "scenarios/bugs/bevy_24670_light_tiles_scroll.json";
 
-nlohmann::json decorrelation(const std::filesystem::path& out) {
-  const nlohmann::json summary = test::read_json(out / "summary.json");  // kept alive for the loop
-  for (const auto& c : summary.at("checks"))
-    if (c.at("name") == "tile_decorrelation") return c;
-  ADD_FAILURE() << "no tile_decorrelation result";
-  return {};
-}
+nlohmann::json decorrelation(const std::filesystem::path& out) { return test::check_result(out, "tile_decorrelation"); }
 
 TEST(TileDecorrelationCheck, FailsOnScrollingTilesAndPassesOnFreshOnes) {
   test::TempDir dir("tile_decorrelation");

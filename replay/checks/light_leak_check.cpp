@@ -20,7 +20,7 @@
 #include "core/errors.h"
 #include "core/json_reader.h"
 #include "replay/checks/check_registry.h"
-#include "replay/checks/reference_check.h"
+#include "replay/checks/realtime_reference_check.h"
 #include "replay/run_scenario.h"
 #include "reports/json_figures.h"
 
@@ -28,12 +28,6 @@ namespace gi {
 namespace {
 
 double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-
-Image average(const Image& a, const Image& b) {
-  Image m(a.width, a.height);
-  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
-  return m;
-}
 
 // Every image with the pixels outside `region` set to zero, so the shared
 // comparison (core/metrics.h) measures the region alone.
@@ -102,7 +96,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     std::vector<bool> region(ref.mean.size());
     std::size_t pixels = 0;
     for (std::size_t i = 0; i < region.size(); ++i) pixels += region[i] = lum(ref.mean.pixels[i]) < threshold;
-    const Image mean = average(mean_a, mean_b);
+    const Image mean = chain_average(mean_a, mean_b);
     const Comparison whole = compare(mean, mean_a, mean_b, ref.mean, ref.half_a, ref.half_b);
     const Comparison c = compare(masked(mean, region), masked(mean_a, region), masked(mean_b, region),
                                  masked(ref.mean, region), masked(ref.half_a, region), masked(ref.half_b, region));

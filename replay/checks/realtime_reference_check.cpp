@@ -14,12 +14,6 @@ namespace {
 
 double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
-Image average(const Image& a, const Image& b) {
-  Image m(a.width, a.height);
-  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
-  return m;
-}
-
 // One chain's frame against the reference: compare() treats (a, b) as halves
 // of the mean (a+b)/2; a single chain has twice that noise variance.
 Comparison single_chain(const Image& a, const Image& b, const ReferenceComparisons::Reference& ref) {
@@ -33,6 +27,12 @@ Comparison single_chain(const Image& a, const Image& b, const ReferenceCompariso
 }
 
 }  // namespace
+
+Image chain_average(const Image& a, const Image& b) {
+  Image m(a.width, a.height);
+  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+  return m;
+}
 
 double edge_region_relmse(const Image& x, const Image& y) {
   const int w = static_cast<int>(y.width), h = static_cast<int>(y.height);
@@ -66,7 +66,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   f.window_start = gpu.window_start;
   f.window_frames = gpu.window_frames;
   f.full_gi = gpu.full_gi;
-  const Image mean = average(gpu.mean_a, gpu.mean_b);
+  const Image mean = chain_average(gpu.mean_a, gpu.mean_b);
   f.temporal = compare(mean, gpu.mean_a, gpu.mean_b, ref.mean, ref.half_a, ref.half_b);
   f.per_frame = single_chain(gpu.frame_a, gpu.frame_b, ref);
   f.verdict = f.temporal.judge(params_.relmse_noise_factor, params_.energy_tolerance, params_.relmse_tolerance);
