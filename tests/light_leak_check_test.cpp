@@ -25,6 +25,9 @@ TEST(LightLeakCheck, JitteredCacheLeaksThroughAThinWallAndTheFixDoesNot) {
   const nlohmann::json b = leak(dir.path() / "bug");
   EXPECT_EQ(b.at("verdict"), "fail");
   EXPECT_GT(shadowed_ratio(b), 1.5);
+  // The region and both images as evidence, for a person to look at.
+  ASSERT_EQ(b["evidence"].size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "bug" / b["evidence"][0].get<std::string>()));
 
   const auto fix = test::run_giharness("run " + scenario + " --set world_cache.query_jitter=none --out " +
                                        (dir.path() / "fix").string());

@@ -18,6 +18,7 @@
 
 #include "core/cache_root.h"
 #include "core/errors.h"
+#include "core/exr_io.h"
 #include "core/json_reader.h"
 #include "replay/checks/check_registry.h"
 #include "replay/checks/realtime_reference_check.h"
@@ -103,6 +104,16 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     LeakFrame l{f.frame(), f.chain_window_frames(), pixels, c.energy_ratio, c.energy_ratio_sigma, whole.energy_ratio};
     l.leaks = pixels > 0 && c.energy_ratio - 1.0 > leak_.max_excess + Comparison::kNoiseMargin * c.energy_ratio_sigma;
     record["light_leak"] = {{"shadowed_pixels", pixels}, {"energy_ratio", json_figure(c.energy_ratio)}};
+    // Evidence: where the region is and what each side put there.
+    Image region_image(ref.mean.width, ref.mean.height);
+    for (std::size_t i = 0; i < region.size(); ++i) region_image.pixels[i] = glm::vec3(region[i] ? 1.0f : 0.0f);
+    l.evidence = fmt::format("light_leak/frame_{:05}.exr", f.frame());
+    const Image realtime_in_region = masked(mean, region), reference_in_region = masked(ref.mean, region);
+    write_exr(out_dir_ / l.evidence, {{"gpu_temporal_mean", &mean},
+                                      {"embree_full_gi", &ref.mean},
+                                      {"shadowed_region", &region_image},
+                                      {"gpu_in_region", &realtime_in_region},
+                                      {"embree_in_region", &reference_in_region}});
     frames_.push_back(l);
   }
 
@@ -120,6 +131,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
                       {"shadowed_energy_ratio", json_figure(l.energy_ratio)},
                       {"shadowed_energy_ratio_sigma", json_figure(l.sigma)},
                       {"whole_image_energy_ratio", json_figure(l.whole_image_ratio)}});
+      r.evidence.push_back(l.evidence);
       if (l.leaks && !r.first_failing_frame) r.first_failing_frame = l.frame;
       if (!worst || l.energy_ratio > worst->energy_ratio) worst = &l;
     }

@@ -84,12 +84,14 @@ class TemporalAcceptanceCheck final : public Check {
       c.message = "no edge pixel with an on-screen history on any judged frame";
       return c;
     }
-    for (const EdgeFrame& e : frames_)
-      if (e.share() < min_share_) {
-        c.first_failing_frame = e.frame;
-        break;
-      }
     c.verdict = share >= min_share_ ? Verdict::pass : Verdict::fail;
+    // A failing verdict names the first frame below the limit on its own.
+    if (c.verdict == Verdict::fail)
+      for (const EdgeFrame& e : frames_)
+        if (e.share() < min_share_) {
+          c.first_failing_frame = e.frame;
+          break;
+        }
     c.message = fmt::format("{} of {} edge pixels with a history reused it over {} frame(s): {:.1f} % (limit {:.1f} %; "
                             "worst frame {} at {:.1f} %){}",
                             reused, pixels, frames_.size(), 100.0 * share, 100.0 * min_share_, worst->frame,
