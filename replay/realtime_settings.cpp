@@ -36,6 +36,8 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.visibility_final = p.text("restir_di.visibility") == "final";
   s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
   s.shading_base_over_pi = p.text("restir_di.shading") == "base_over_pi";
+  s.emissive_unexposed = p.text("restir_di.emissive_exposure") == "unexposed";
+  s.sun_center = p.text("light_tiles.sun_sampling") == "center";
   s.chains = chains;
   if (with_specular_gi) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   return s;
@@ -80,6 +82,8 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";
   s.secondary_albedo_base = p.text("brdf.secondary_albedo") == "base_color";
   s.drop_zero_channel_light = p.text("world_cache.direct_light_zero_channel") == "drop";
+  s.direct_light_cosine_missing = p.text("world_cache.direct_light_cosine") == "missing";
+  s.sun_center = p.text("light_tiles.sun_sampling") == "center";
   s.tile_candidates = p.text("world_cache.direct_light_candidates") == "light_tiles";
   s.tiles_previous_frame = p.text("world_cache.light_tiles_frame") == "previous";
   s.glossy_roughness = static_cast<float>(p.number("specular.reuse_gi_roughness"));
@@ -124,7 +128,9 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
                                             {{"all_channels", G::EmissiveTest::all_channels},
                                              {"any_channel", G::EmissiveTest::any_channel},
                                              {"front_any_channel", G::EmissiveTest::front_any_channel}});
-  s.visibility_final = p.text("restir_gi.visibility") == "final";
+  s.visibility_final = p.text("restir_gi.visibility") != "spatial_fed_forward";
+  s.visibility_final_stored = p.text("restir_gi.visibility") == "final_stored";
+  s.cosine_twice = p.text("restir_gi.shading_cosine") == "twice";
   s.shading_diffuse = p.text("restir_gi.diffuse_shading") == "diffuse";
   s.skip_smooth_metals = p.text("restir_gi.smooth_metals") == "skip";
   s.offscreen_own_pixel = p.text("restir_di.offscreen_reprojection") == "own_pixel";

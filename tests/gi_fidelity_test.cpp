@@ -298,6 +298,64 @@ TEST(GiFidelity, BothDirectionRejectionRefusesMorePairs) {
   EXPECT_GT(total_rejections(both), total_rejections(one) + total_rejections(one) / 10);
 }
 
+// Bevy between #22468 and #23968 (11b81eb1d7^:realtime/restir_gi.wgsl:248,83-86)
+// shaded GI with n·l twice: the GI signal darkens, DI is untouched.
+TEST(GiFidelity, CosineTwiceDarkensGiAlone) {
+  const GiRun once = run_gi(kCornell, "--set restir_gi.shading_cosine=once", "cos_once", 8);
+  const GiRun twice = run_gi(kCornell, "--set restir_gi.shading_cosine=twice", "cos_twice", 8);
+  ASSERT_EQ(once.exit_code, 0) << once.output;
+  ASSERT_EQ(twice.exit_code, 0) << twice.output;
+  const double o = signal_mean(once, "gi", 2), t = signal_mean(twice, "gi", 2);
+  EXPECT_LT(t, 0.85 * o) << o << " " << t;
+  EXPECT_GT(t, 0.3 * o) << o << " " << t;
+  EXPECT_EQ(signal_mean(once, "di", 0), signal_mean(twice, "di", 0));
+}
+
+// Bevy between #21649 and #21919 (37023731b9^:realtime/restir_gi.wgsl:71-79):
+// the final ray zeroed only the stored sample, so this frame's GI was shaded
+// unshadowed. With no history yet (frame 0), that is at least as bright as
+// the final ray's shadowed GI, and brighter where a sample is occluded.
+TEST(GiFidelity, FinalStoredVisibilityShadesThisFrameUnshadowed) {
+  // Path-traced hit radiance: GI from frame 0 on (the cache starts empty).
+  const std::string path = "--set restir_gi.hit_radiance=path ";
+  const GiRun final_ray = run_gi(kCornell, path + "--set restir_gi.visibility=final", "vis_final_1", 1);
+  const GiRun stored = run_gi(kCornell, path + "--set restir_gi.visibility=final_stored", "vis_stored_1", 1);
+  ASSERT_EQ(final_ray.exit_code, 0) << final_ray.output;
+  ASSERT_EQ(stored.exit_code, 0) << stored.output;
+  const double f = signal_mean(final_ray, "gi", 0), s = signal_mean(stored, "gi", 0);
+  EXPECT_GT(f, 0.0);
+  EXPECT_GT(s, f) << "final " << f << ", final_stored " << s;
+}
+
+// Solari 0.17 exposed DI and then added the emissive (v0.17.0:realtime/
+// restir_di.wgsl:89-91): in radiance units the Cornell light is 1/exposure
+// too bright. At exposure 1 the order does not matter, bit for bit.
+TEST(DiFidelity, EmissiveAddedAfterExposureBrightensEmittersOnly) {
+  const std::string quarter = "--set light_tiles.exposure=0.25 ";
+  const GiRun exposed = run_gi(kCornell, quarter + "--set restir_di.emissive_exposure=exposed", "emis_exposed", 2);
+  const GiRun unexposed = run_gi(kCornell, quarter + "--set restir_di.emissive_exposure=unexposed", "emis_unexposed", 2);
+  ASSERT_EQ(exposed.exit_code, 0) << exposed.output;
+  ASSERT_EQ(unexposed.exit_code, 0) << unexposed.output;
+  EXPECT_GT(signal_mean(unexposed, "di", 0), 1.05 * signal_mean(exposed, "di", 0));
+  EXPECT_EQ(signal_mean(unexposed, "gi", 0), signal_mean(exposed, "gi", 0));
+  const GiRun one_a = run_gi(kCornell, "--set restir_di.emissive_exposure=exposed", "emis_one_a", 2);
+  const GiRun one_b = run_gi(kCornell, "--set restir_di.emissive_exposure=unexposed", "emis_one_b", 2);
+  EXPECT_EQ(one_a.summary.at("final_image_hash"), one_b.summary.at("final_image_hash"));
+}
+
+// Solari 0.17's hard sun (v0.17.0:scene/sampling.wgsl:122-138): the centre
+// direction with the cone's weight keeps the sun's irradiance on open ground
+// and loses the penumbra, so the mean barely moves and the image changes.
+TEST(DiFidelity, HardSunKeepsTheMeanAndChangesThePenumbra) {
+  const nlohmann::json sun = {{"generator", "di_sun_penumbra"}};
+  const GiRun cone = run_gi(sun, "--set light_tiles.sun_sampling=cone", "sun_cone", 8);
+  const GiRun center = run_gi(sun, "--set light_tiles.sun_sampling=center", "sun_center", 8);
+  ASSERT_EQ(cone.exit_code, 0) << cone.output;
+  ASSERT_EQ(center.exit_code, 0) << center.output;
+  EXPECT_NE(cone.summary.at("final_image_hash"), center.summary.at("final_image_hash"));
+  EXPECT_NEAR(signal_mean(center, "di", 2) / signal_mean(cone, "di", 2), 1.0, 0.03);
+}
+
 // Issue 25's measure: a run with two chains reports each signal's per-frame
 // noise from the chains and over time; a one-chain run reports only the
 // temporal figure, and says so with a null.

@@ -329,6 +329,19 @@ double cache_mean_radiance(const test::ScenarioRun& r, std::size_t frame) {
   return r.summary.at("frames").at(frame).at("world_cache").at("mean_radiance").get<double>();
 }
 
+// Bevy between #22468 and #22570 (d458904f56^:realtime/world_cache_update.wgsl:
+// 108,122): the cache's direct light kept the radiance without the cell's
+// cosine, so every cell's direct light is divided by n·l: brighter.
+TEST(WorldCacheFidelity, DirectLightWithoutTheCosineIsBrighter) {
+  const auto applied = run_cornell_gi("--set world_cache.direct_light_cosine=applied", "cos_applied", 6);
+  const auto missing = run_cornell_gi("--set world_cache.direct_light_cosine=missing", "cos_missing", 6);
+  ASSERT_EQ(applied.exit_code, 0) << applied.output;
+  ASSERT_EQ(missing.exit_code, 0) << missing.output;
+  EXPECT_GT(cache_mean_radiance(missing, 5), 1.1 * cache_mean_radiance(applied, 5));
+  EXPECT_EQ(applied.summary.at("frames").at(5).at("world_cache").at("active_cells"),
+            missing.summary.at("frames").at(5).at("world_cache").at("active_cells"));
+}
+
 // Solari's cache takes its direct-light candidates from the light tiles
 // (world_cache.direct_light_candidates light_tiles); 0.17 updates the cache
 // before it rebuilds them, so the update reads last frame's

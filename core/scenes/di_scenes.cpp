@@ -61,6 +61,27 @@ Scene make_di_occluder() {
   return s;
 }
 
+// A big sun (5.7° radius: a hazy sky's glow, twenty times the real sun's) over
+// a 1.5 m wall: the shadow on the floor has penumbrae up to 0.4 m wide, so
+// sampling only the sun's centre (Solari 0.17's hard sun) is a visible error.
+Scene make_di_sun_penumbra() {
+  Scene s;
+  s.name = "di_sun_penumbra";
+  add_floor(s, 3.0f);
+  add_object(s, box_mesh("wall", {-1.0f, 0.0f, -0.6f}, {1.0f, 1.5f, -0.45f}), lambert_material("wall", glm::vec3(0.6f)));
+  DirectionalLight sun;
+  sun.name = "sun";
+  sun.direction = glm::normalize(glm::vec3(0.35f, 1.0f, -0.9f));
+  sun.color = glm::vec3(1.0f, 0.96f, 0.9f);
+  sun.illuminance = 3.0f;
+  sun.angular_radius = 0.1f;
+  s.directional_lights.push_back(sun);
+  s.camera.position = {0.0f, 3.2f, 2.6f};
+  s.camera.target = {0.0f, 0.0f, 0.4f};
+  s.camera.vertical_fov_degrees = 50.0f;
+  return s;
+}
+
 Scene make_di_packing_range() {
   Scene s;
   s.name = "di_packing_range";

@@ -31,7 +31,14 @@ GI_FN ResolvedLightSample resolve_light_sample(LightSample ls) {
   GpuLight light = scene_light(ls.light_id);
   float count = float(scene_light_count());
   if (light.kind == LIGHT_KIND_DIRECTIONAL) {
+#ifdef LIGHT_SUN_CENTER
+    // Solari 0.17's hard sun (v0.17.0:scene/sampling.wgsl:122-138, the cone
+    // only under a define nothing set): the centre direction, the cone's
+    // weight, so the irradiance is right and the penumbra is gone.
+    vec3 dir = vec3(light.direction);
+#else
     vec3 dir = to_world(sample_cone(u, light.direction.w), vec3(light.direction));
+#endif
     r.world_position = vec4(dir, 0.0f);
     r.world_normal = -dir;
     r.radiance = vec3(light.radiance);

@@ -9,7 +9,7 @@ std::vector<ShaderDefine> DiSettings::defines() const {
   auto f = [](float v) { return fmt::format("{:.9g}", v).find_first_of(".e") == std::string::npos
                                     ? fmt::format("{:.9g}.0", v)
                                     : fmt::format("{:.9g}", v); };
-  return {{"LIGHT_TILE_COUNT", std::to_string(tile_count) + "u"},
+  std::vector<ShaderDefine> d = {{"LIGHT_TILE_COUNT", std::to_string(tile_count) + "u"},
           {"LIGHT_TILE_SAMPLES", std::to_string(samples_per_tile) + "u"},
           {"LIGHT_TILE_EXPOSURE", f(exposure)},
           {"LIGHT_TILE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
@@ -30,7 +30,10 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"},
           {"DI_SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
-          {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"}};
+          {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"},
+          {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"}};
+  if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
+  return d;
 }
 
 }  // namespace gi::gpu

@@ -46,6 +46,13 @@ struct DiSettings {
   // workgroup, the same every frame; false: a random tile per pixel and frame.
   bool tile_per_workgroup = true;
   bool visibility_final = true;           // false: spatial ray fed forward (0.17)
+  // restir_di.emissive_exposure "unexposed" (0.17): Bevy multiplied DI by the
+  // view's exposure and then added the emissive, so emitters were 1/exposure
+  // too bright against the rest (light_tiles.exposure stands for the view's).
+  bool emissive_unexposed = false;
+  // light_tiles.sun_sampling "center" (0.17): every light sample takes the
+  // sun's centre direction (hard shadows); false: its cone (0.18 on).
+  bool sun_center = false;
   // true: the initial winner's shadow ray zeroes its W and that W is stored
   // and reused (0.17 and 0.18 as released); false: the ray is not traced and
   // only the final shading ray tests visibility (README, "DI bias").

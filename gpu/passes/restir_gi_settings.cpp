@@ -28,6 +28,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_EMPTY_NO_CONFIDENCE", empty_no_confidence ? "1" : "0"},
           {"GI_EMISSIVE_TEST", std::to_string(static_cast<int>(emissive_test))},
           {"GI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
+          {"GI_VISIBILITY_FINAL_STORED", visibility_final && visibility_final_stored ? "1" : "0"},
+          {"GI_COSINE_TWICE", cosine_twice ? "1" : "0"},
           {"GI_SHADING_DIFFUSE", shading_diffuse ? "1" : "0"},
           {"GI_SKIP_SMOOTH_METALS", skip_smooth_metals ? "1" : "0"},
           {"GI_OFFSCREEN_OWN_PIXEL", offscreen_own_pixel ? "1" : "0"},

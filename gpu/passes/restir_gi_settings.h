@@ -56,6 +56,15 @@ struct GiSettings {
   // shading (Solari 0.18); false: the spatial neighbour is tested before the
   // merge and the result stored (Solari 0.17).
   bool visibility_final = true;
+  // restir_gi.visibility "final_stored" (Bevy f94997ca37 #21649 to 37023731b9^
+  // #21919): the final ray zeroes the stored reservoir's radiance, so next
+  // frame reuses an occluded sample as dark, and this frame's shading takes
+  // no visibility at all.
+  bool visibility_final_stored = false;
+  // restir_gi.shading_cosine "twice" (Bevy bf728759f0 #22468 to 11b81eb1d7^
+  // #23968, unreleased): the merged sample's radiance carries cos(θ) and the
+  // diffuse BRDF it is shaded with carries it again.
+  bool cosine_twice = false;
   // restir_gi.diffuse_shading "diffuse": GI shaded with base·(1 − metallic)/π
   // (Solari 0.18); false: base/π whatever the metallic (Solari 0.17).
   bool shading_diffuse = true;

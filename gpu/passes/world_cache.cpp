@@ -104,6 +104,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
                                  {"WORLD_CACHE_DROP_ZERO_CHANNEL", drop_zero_channel_light ? "1" : "0"},
+                                 {"WORLD_CACHE_DI_COSINE_MISSING", direct_light_cosine_missing ? "1" : "0"},
                                  {"WORLD_CACHE_TILE_CANDIDATES", tile_candidates ? "1" : "0"},
                                  {"WORLD_CACHE_TILE_COUNT", u(tile_count)},
                                  {"WORLD_CACHE_TILE_SAMPLES", u(tile_samples)},
@@ -111,6 +112,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_GLOSSY_BOUNCES", u(glossy_bounces)},
                                  {"WORLD_CACHE_PENDING_CAPACITY", u(pending_capacity)}};
   if (root_frame) d.push_back({"WORLD_CACHE_ROOT_FRAME", ""});
+  if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
   return d;
 }
 

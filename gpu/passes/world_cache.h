@@ -74,6 +74,13 @@ struct WorldCacheSettings {
   // lost when any channel of the chosen sample's radiance is 0 (Bevy 0.17-0.19:
   // a pure red light never lights the cache).
   bool drop_zero_channel_light = false;
+  // world_cache.direct_light_cosine "missing" (Bevy #22468 to #22570,
+  // unreleased): the chosen light sample's radiance is kept without the
+  // cell's cosine, which the RIS target has: direct light divided by n.l.
+  bool direct_light_cosine_missing = false;
+  // light_tiles.sun_sampling "center" (DiSettings::sun_center), for the
+  // candidates the cache draws itself.
+  bool sun_center = false;
   // world_cache.direct_light_candidates "light_tiles" (Solari): the direct-light
   // candidates come from one light tile per workgroup (DI's tiles, chain 0:
   // tile_count × tile_samples); false: drawn afresh by the cache itself.

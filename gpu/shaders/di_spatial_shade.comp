@@ -94,7 +94,13 @@ void main() {
     }
     stored_reservoirs[slot] = canonical;
 
+#if DI_EMISSIVE_UNEXPOSED != 0
+    // Solari 0.17 (v0.17.0:realtime/restir_di.wgsl:89-91) exposed the lighting,
+    // then added the emissive: in radiance units the emitter gains 1/exposure.
+    color = d.emissive / LIGHT_TILE_EXPOSURE;
+#else
     color = d.emissive;
+#endif
     if (di_reservoir_valid(canonical) && canonical.unbiased_contribution_weight > 0.0) {
       ResolvedLightSample r = di_resolve(canonical.light);
       LightContribution c = light_contribution(r, d.position, d.ns);

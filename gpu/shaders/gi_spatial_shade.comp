@@ -82,11 +82,22 @@ void main() {
                            canonical_visible_at_other, rng_next_float(rng));
     }
     if (!gi_reservoir_finite(canonical)) atomicAdd(gi_stats.nonfinite_reservoirs, 1u);
-    stored_reservoirs[slot] = canonical;
-
     bool shade = gi_reservoir_valid(canonical);
+#if GI_VISIBILITY_FINAL_STORED != 0
+    // Bevy between #21649 and #21919 (37023731b9^:realtime/restir_gi.wgsl:71-79):
+    // the final ray zeroes the stored sample's radiance, which next frame
+    // reuses as dark, while this frame shades the merged radiance unshadowed.
+    if (shade && !gi_point_visible(d.position, d.ng, canonical.sample_position.xyz)) {
+      stored_reservoirs[slot] = canonical;
+      stored_reservoirs[slot].radiance.rgb = vec3(0.0);
+    } else {
+      stored_reservoirs[slot] = canonical;
+    }
+#else
 #if GI_VISIBILITY_FINAL != 0
     if (shade) shade = gi_point_visible(d.position, d.ng, canonical.sample_position.xyz);
+#endif
+    stored_reservoirs[slot] = canonical;
 #endif
     if (shade) {
       vec3 wi = normalize(canonical.sample_position.xyz - d.position);
@@ -96,6 +107,11 @@ void main() {
       vec3 brdf = d.base_color * INV_PI;
 #endif
       color = brdf * canonical.radiance.rgb * canonical.radiance.w * max(dot(d.ns, wi), 0.0);
+#if GI_COSINE_TWICE != 0
+      // Bevy 11b81eb1d7^:realtime/restir_gi.wgsl:248,83-86: the merge returns
+      // radiance · cos and #22468's diffuse BRDF multiplies by n·l again.
+      color *= max(dot(d.ns, wi), 0.0);
+#endif
     }
   }
 

@@ -88,6 +88,11 @@ void main() {
       // v0.18.0): a saturated colour, or a channel rgb9e5 rounds to 0, loses it all.
       if (any(equal(received, vec3(0.0)))) received = vec3(0.0);
 #endif
+#if WORLD_CACHE_DI_COSINE_MISSING != 0
+      // Bevy d458904f56^:realtime/world_cache_update.wgsl:108,122 (#22468 to
+      // #22570): the radiance kept has lost the cell's cosine, the target not.
+      received /= max(dot(light_contribution(r, p, n).wi, n), 1e-6);
+#endif
       if (light_sample_visible(p, n, r)) irradiance = received * ris_contribution_weight(ris);
     }
   }
