@@ -47,7 +47,7 @@ const ScenarioKeys& scenario_keys() {
   static const ScenarioKeys keys = [] {
     ScenarioKeys k;
     k.top_level = {"$schema", "name", "description", "scene", "resolution", "frames", "seed", "profile",
-                   "overrides", "mode", "gi", "noise", "cache_view", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds", "bug"};
+                   "overrides", "mode", "gi", "noise", "cache_view", "background", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds", "bug"};
     k.required_top_level = {"name", "scene", "resolution", "frames"};
     k.scene_keys = {"generator", "params", "gltf"};
     k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
@@ -383,6 +383,7 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   if (doc.contains("gi")) s.gi = r.boolean(doc["gi"], "/gi");
   if (doc.contains("noise")) s.noise = r.boolean(doc["noise"], "/noise");
   if (doc.contains("cache_view")) s.cache_view = r.boolean(doc["cache_view"], "/cache_view");
+  if (doc.contains("background")) s.background = r.vec3(doc["background"], "/background", 0.0, 1e6);
   if (doc.contains("timeout_seconds"))
     s.timeout_seconds = r.uint(doc["timeout_seconds"], "/timeout_seconds", 1, kMaxTimeoutSeconds);
   if (doc.contains("samples_per_frame"))

@@ -144,6 +144,9 @@ struct Scenario {
   // surface each frame, Bevy's VISUALIZE_WORLD_CACHE). Its queries keep cells
   // alive, so it changes the cache it shows; captures gain a "cache_view" layer.
   bool cache_view = false;
+  // Radiance shown where a camera ray hits nothing (Bevy's ClearColor): the
+  // background only, never a light. Absent: the scene's (black).
+  std::optional<glm::vec3> background;
   std::uint32_t samples_per_frame = 1;
   // The nightly's wall-time limit for this scenario's process, in seconds
   // (unset: the suite's --scenario-timeout).

@@ -61,6 +61,9 @@ struct Scene {
   std::vector<Instance> instances;
   std::vector<DirectionalLight> directional_lights;
   Camera camera;
+  // Radiance where a camera ray hits nothing (Bevy's ClearColor): shown, not
+  // lit by. Both renderers add it at primary misses only.
+  glm::vec3 background{0.0f};
   // Which Bevy release's material model shades every material (brdf.h's
   // BRDF_*; the profile's brdf.model, set by apply_material_model). Both
   // renderers read it from the flattened materials.

@@ -134,6 +134,7 @@ Scene build_scene(const Scenario& s) {
     if (s.camera->up) scene.camera.up = *s.camera->up;
     if (s.camera->fov_y_degrees) scene.camera.vertical_fov_degrees = *s.camera->fov_y_degrees;
   }
+  if (s.background) scene.background = *s.background;
   validate_events(s, scene);
   return scene;
 }

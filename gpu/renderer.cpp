@@ -67,7 +67,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     nonfinite_ = Buffer(device, sizeof(std::uint32_t), kStorage, "reference non-finite count");
     nonfinite_host_.emplace(device, nonfinite_);
     reset_accumulation();
-    reference_path_trace_.emplace(device, compiler);
+    reference_path_trace_.emplace(device, compiler, options_.reference_options);
   }
   if (options_.di) {
     if (!options_.gbuffer) throw DeviceError("Renderer: realtime DI needs the G-buffer (RendererOptions::gbuffer)");

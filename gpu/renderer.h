@@ -46,6 +46,7 @@ struct RendererOptions {
   std::uint32_t width = 0, height = 0;
   bool gbuffer = true;    // primary visibility + G-buffer resolve
   bool reference = true;  // GPU reference path tracer (accumulating)
+  ReferencePathTraceOptions reference_options;  // its background (Scene::background)
   std::optional<DiSettings> di;  // realtime mode: light tiles + ReSTIR DI (needs gbuffer)
   std::optional<WorldCacheSettings> world_cache;  // the world cache and its cache view (needs gbuffer)
   std::optional<GiSettings> gi;  // ReSTIR GI + specular GI (needs di: the output is DI + GI + specular)

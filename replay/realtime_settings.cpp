@@ -38,6 +38,7 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.shading_base_over_pi = p.text("restir_di.shading") == "base_over_pi";
   s.emissive_unexposed = p.text("restir_di.emissive_exposure") == "unexposed";
   s.sun_center = p.text("light_tiles.sun_sampling") == "center";
+  s.show_background = p.text("restir_di.background") == "clear_color";
   s.chains = chains;
   if (with_specular_gi) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   return s;

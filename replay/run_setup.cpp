@@ -81,11 +81,13 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   // the determinism check) always list the same buffers, G-buffer included.
   r.gbuffer = realtime || gbuffer || !captures.empty() || record_hashes;
   r.reference = !realtime;
+  r.reference_options.background = initial.background;
   r.frame_output = true;
   const std::uint32_t chains = two_chains ? 2u : 1u;
   if (realtime) {
     r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
                                     gi && profile.flag("specular.enabled"));
+    r.di->background = initial.background;
   }
   if (gi) {
     r.gi = gi_settings_from_profile(profile, chains);

@@ -231,6 +231,40 @@ TEST(EmbreeReference, CacheReturnsIdenticalBits) {
   std::filesystem::remove_all(dir);
 }
 
+// The background is seen where the camera ray misses and lights nothing: a
+// pixel either gains exactly it or nothing, in the path tracer and in the
+// direct-lighting reference, and it is part of the cache key.
+TEST(EmbreeReference, BackgroundShowsOnlyWhereTheCameraRayMisses) {
+  Scene scene = make_cornell_box();
+  scene.camera.position = glm::vec3(0.278f, 0.273f, -2.0f);  // far back: the box fills the middle
+  ReferenceOptions o;
+  o.width = 32;
+  o.height = 24;
+  o.spp = 4;
+  for (const bool direct : {false, true}) {
+    SCOPED_TRACE(direct ? "direct" : "path");
+    o.direct_only = direct;
+    Scene lit = scene;
+    lit.background = glm::vec3(0.25f, 0.5f, 1.0f);
+    const ReferenceResult black = render_reference(scene, o), shown = render_reference(lit, o);
+    std::size_t sky = 0, box = 0;
+    for (std::size_t i = 0; i < black.mean.pixels.size(); ++i) {
+      const glm::vec3 d = shown.mean.pixels[i] - black.mean.pixels[i];
+      if (d == glm::vec3(0.0f)) {
+        ++box;
+      } else {
+        ++sky;
+        EXPECT_NEAR(d.x, 0.25f, 1e-5f);
+        EXPECT_NEAR(d.y, 0.5f, 1e-5f);
+        EXPECT_NEAR(d.z, 1.0f, 1e-5f);
+      }
+    }
+    EXPECT_GT(sky, 0u);
+    EXPECT_GT(box, 50u);  // the box: about 100 of the 768 pixels
+    EXPECT_NE(reference_cache_key(scene, o), reference_cache_key(lit, o));
+  }
+}
+
 // --- EXR I/O --------------------------------------------------------------------
 
 TEST(ExrIo, MultiLayerRoundTripIsExact) {

@@ -343,6 +343,22 @@ TEST(DiFidelity, EmissiveAddedAfterExposureBrightensEmittersOnly) {
   EXPECT_EQ(one_a.summary.at("final_image_hash"), one_b.summary.at("final_image_hash"));
 }
 
+// Bevy's ClearColor shows where nothing is hit from 0.18 on (#21350); 0.17
+// wrote black there (v0.17.0:realtime/restir_di.wgsl:71), as a scene without
+// a background gives.
+TEST(DiFidelity, BackgroundShowsUnlessBlack) {
+  const nlohmann::json field = {{"generator", "cache_open_field"}};
+  const nlohmann::json sky = {{"background", {0.3, 0.5, 0.9}}};
+  const GiRun shown = run_gi(field, "--set restir_di.background=clear_color", "bg_shown", 2, 64, false, sky);
+  const GiRun black = run_gi(field, "--set restir_di.background=black", "bg_black", 2, 64, false, sky);
+  const GiRun none = run_gi(field, "--set restir_di.background=clear_color", "bg_none", 2);
+  ASSERT_EQ(shown.exit_code, 0) << shown.output;
+  ASSERT_EQ(black.exit_code, 0) << black.output;
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_GT(signal_mean(shown, "di", 0), signal_mean(black, "di", 0) + 0.05);
+  EXPECT_EQ(black.summary.at("final_image_hash"), none.summary.at("final_image_hash"));
+}
+
 // Solari 0.17's hard sun (v0.17.0:scene/sampling.wgsl:122-138): the centre
 // direction with the cone's weight keeps the sun's irradiance on open ground
 // and loses the penumbra, so the mean barely moves and the image changes.

@@ -222,6 +222,22 @@ TEST(Scenario, DefaultsAndRawKept) {
   EXPECT_EQ(s.raw, doc);
 }
 
+// "background" (Bevy's ClearColor) reaches the scene; a negative channel is
+// an input error at its JSON path.
+TEST(Scenario, BackgroundReachesTheSceneAndIsChecked) {
+  json doc = {{"name", "x"}, {"scene", {{"generator", "cornell_box"}}}, {"resolution", {8, 4}}, {"frames", 3}};
+  EXPECT_EQ(gi::build_scene(gi::parse_scenario(doc, "inline.json")).background, glm::vec3(0.0f));
+  doc["background"] = {0.25, 0.5, 1.0};
+  EXPECT_EQ(gi::build_scene(gi::parse_scenario(doc, "inline.json")).background, glm::vec3(0.25f, 0.5f, 1.0f));
+  doc["background"] = {0.25, -0.5, 1.0};
+  try {
+    gi::parse_scenario(doc, "inline.json");
+    FAIL() << "a negative background was accepted";
+  } catch (const gi::InputError& e) {
+    EXPECT_EQ(e.json_path(), "/background/1") << e.what();
+  }
+}
+
 // A repeated spawn is expanded into plain spawns: frames, zero-padded names
 // and grid translations as SpawnRepeat says; a name without '#' is refused.
 TEST(Scenario, RepeatedSpawnExpandsIntoNumberedSpawnsOnAGrid) {

@@ -55,6 +55,13 @@ ReferenceResult render_reference(const FlatGeometry& geometry, const FlatInstanc
       for (std::uint32_t x = tile.cols().begin(); x < tile.cols().end(); ++x) {
         const std::uint32_t pixel = y * o.width + x;
         const glm::vec3 dir = shader::camera_ray_direction(camera, glm::uvec2(x, y), resolution);
+        // Every sample of a pixel shares its camera ray, so the background
+        // (seen, never lighting anything) is one test per pixel.
+        glm::vec3 background(0.0f);
+        if (o.background != glm::vec3(0.0f)) {
+          shader::Hit primary;
+          if (!bridge.trace_closest(origin, dir, shader::RAY_TMAX, primary)) background = o.background;
+        }
         // Each pixel sums its own samples in sample order: no cross-thread sums.
         glm::dvec3 sum[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
         std::uint64_t count[2] = {0, 0};
@@ -71,9 +78,10 @@ ReferenceResult render_reference(const FlatGeometry& geometry, const FlatInstanc
           ++count[sample & 1u];
         }
         const std::size_t i = pixel;
-        if (count[0]) r.half_a.pixels[i] = glm::vec3(sum[0] / double(count[0]));
-        if (count[1]) r.half_b.pixels[i] = glm::vec3(sum[1] / double(count[1]));
-        if (count[0] + count[1]) r.mean.pixels[i] = glm::vec3((sum[0] + sum[1]) / double(count[0] + count[1]));
+        if (count[0]) r.half_a.pixels[i] = glm::vec3(sum[0] / double(count[0])) + background;
+        if (count[1]) r.half_b.pixels[i] = glm::vec3(sum[1] / double(count[1])) + background;
+        if (count[0] + count[1])
+          r.mean.pixels[i] = glm::vec3((sum[0] + sum[1]) / double(count[0] + count[1])) + background;
       }
     }
     rays.fetch_add(bridge.rays, std::memory_order_relaxed);
@@ -99,7 +107,9 @@ ReferenceResult render_reference(const Scene& scene, const ReferenceOptions& opt
   const FlatGeometry geometry = flatten_geometry(scene);
   const FlatInstances flat = flatten_instances(scene, geometry);
   const GpuCamera camera = make_gpu_camera(scene.camera, std::max(options.width, 1u), std::max(options.height, 1u));
-  ReferenceResult r = render_reference(geometry, flat, instance_visibility(scene), camera, options);
+  ReferenceOptions o = options;
+  o.background = scene.background;
+  ReferenceResult r = render_reference(geometry, flat, instance_visibility(scene), camera, o);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

@@ -20,6 +20,7 @@ struct ReferenceOptions {
   unsigned threads = 0;            // 0 = all cores; never changes the image
   std::uint32_t first_sample = 0;  // sample indices first_sample .. first_sample + spp − 1
   bool direct_only = false;        // "DI" only (core/shared/direct_integrator.h), for the realtime DI check
+  glm::vec3 background{0.0f};      // added where the camera ray misses (Scene::background)
 };
 
 struct ReferenceResult {

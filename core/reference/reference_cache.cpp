@@ -122,6 +122,10 @@ std::uint64_t reference_cache_key(const Scene& scene, const ReferenceOptions& o)
   h.pod(camera);
   for (std::uint32_t v : {o.width, o.height, o.spp, o.seed, o.max_bounces, o.first_sample}) h.pod(v);
   if (o.direct_only) h.string("direct_only");  // absent for path tracing: existing keys stay valid
+  if (scene.background != glm::vec3(0.0f)) {    // absent when black, likewise
+    h.string("background");
+    h.pod(scene.background);
+  }
   return h.digest();
 }
 

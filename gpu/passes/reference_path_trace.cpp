@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include <fmt/format.h>
+
 #include "gpu/buffer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/shaders/bindings.h"
@@ -17,7 +19,10 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler, const ReferenceP
   bindings.push_back({BINDING_REFERENCE_A, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_REFERENCE_B, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_REFERENCE_NONFINITE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
-  const std::vector<ShaderDefine> defines = {{"REFERENCE_MAX_BOUNCES", std::to_string(options.max_bounces) + "u"}};
+  std::vector<ShaderDefine> defines = {{"REFERENCE_MAX_BOUNCES", std::to_string(options.max_bounces) + "u"}};
+  if (options.background != glm::vec3(0.0f))
+    defines.push_back({"REFERENCE_BACKGROUND", fmt::format("vec3({:.9g},{:.9g},{:.9g})", options.background.x,
+                                                           options.background.y, options.background.z)});
   return ComputePass(device, "reference_path_trace", compiler.compile_file(ReferencePathTrace::kShader, defines).spirv,
                      std::move(bindings));
 }

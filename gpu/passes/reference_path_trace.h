@@ -5,6 +5,8 @@
 #pragma once
 #include <cstdint>
 
+#include <glm/vec3.hpp>
+
 #include "gpu/compute_pass.h"
 
 namespace gi::gpu {
@@ -14,6 +16,7 @@ class ShaderCompiler;
 
 struct ReferencePathTraceOptions {
   std::uint32_t max_bounces = 32;  // path length cap, as in the Embree reference (compiled in)
+  glm::vec3 background{0.0f};      // added where the camera ray misses (Scene::background)
 };
 
 class ReferencePathTrace {

@@ -33,6 +33,8 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"},
           {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"}};
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
+  if (show_background && background != glm::vec3(0.0f))
+    d.push_back({"DI_BACKGROUND", fmt::format("vec3({},{},{})", f(background.x), f(background.y), f(background.z))});
   return d;
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "gpu/compute_pass.h"
 #include "gpu/shader_compiler.h"
 
@@ -53,6 +55,10 @@ struct DiSettings {
   // light_tiles.sun_sampling "center" (0.17): every light sample takes the
   // sun's centre direction (hard shadows); false: its cone (0.18 on).
   bool sun_center = false;
+  // restir_di.background "clear_color" (0.18 on): the scene's background
+  // radiance where the camera ray misses; false ("black", 0.17): black there.
+  bool show_background = true;
+  glm::vec3 background{0.0f};  // Scene::background
   // true: the initial winner's shadow ray zeroes its W and that W is stored
   // and reused (0.17 and 0.18 as released); false: the ray is not traced and
   // only the final shading ray tests visibility (README, "DI bias").

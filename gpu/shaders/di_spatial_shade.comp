@@ -41,6 +41,11 @@ void main() {
 
   if (!d.hit) {
     color = escaped_radiance(-d.view, 0.0);
+#ifdef DI_BACKGROUND
+    // Bevy's ClearColor, shown from 0.18 on (#21350); 0.17 wrote black here
+    // (v0.17.0:realtime/restir_di.wgsl:71).
+    color += DI_BACKGROUND;
+#endif
     stored_reservoirs[slot] = empty_di_reservoir();
   } else {
     uint rng = rng_seed(frame.resolution_frame.w, RNG_DOMAIN_DI_SPATIAL + chain, index, frame.resolution_frame.z);

@@ -5,7 +5,7 @@
 // the nonfinite buffer and contributes nothing (never dropped silently).
 //
 // Defines: REFERENCE_MAX_BOUNCES (path length cap, shared with the Embree
-// reference).
+// reference); REFERENCE_BACKGROUND (vec3, Scene::background), if not black.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
@@ -29,13 +29,20 @@ void main() {
   vec3 origin = vec3(frame.camera.position);
   vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
 
+  vec3 background = vec3(0.0);
+#ifdef REFERENCE_BACKGROUND
+  // Seen where the camera ray misses, never lighting anything (as the Embree
+  // reference adds it).
+  Hit primary;
+  if (!trace_closest(origin, dir, RAY_TMAX, primary)) background = REFERENCE_BACKGROUND;
+#endif
   vec4 sum_a = vec4(0.0);
   vec4 sum_b = vec4(0.0);
   uint bad = 0u;
   for (uint s = 0u; s < frame.counts.z; ++s) {
     uint sample_index = frame.counts.w + s;
     uint rng = rng_seed(seed, RNG_DOMAIN_GPU_REFERENCE, index, sample_index);
-    vec3 radiance = path_trace(origin, dir, rng, uint(REFERENCE_MAX_BOUNCES));
+    vec3 radiance = path_trace(origin, dir, rng, uint(REFERENCE_MAX_BOUNCES)) + background;
     if (any(isnan(radiance)) || any(isinf(radiance))) {
       ++bad;
       radiance = vec3(0.0);  // the sample still counts: dropping it would bias the mean up
