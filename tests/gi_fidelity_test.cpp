@@ -372,6 +372,21 @@ TEST(DiFidelity, HardSunKeepsTheMeanAndChangesThePenumbra) {
   EXPECT_NEAR(signal_mean(center, "di", 2) / signal_mean(cone, "di", 2), 1.0, 0.03);
 }
 
+// Bevy's glossy path before #21907 (6c22c9b444^:realtime/specular_gi.wgsl:71-105)
+// added the cache's light at every vertex while going on along the full BRDF:
+// the mirror room's specular signal rises well above the same path ended at
+// the first rough hit (both with that era's reuse threshold and no handover).
+TEST(GiFidelity, CacheAtEveryVertexAddsToTheSpecularSignal) {
+  const std::string era = "--set specular.reuse_gi_roughness=0.1 --set specular.di_handover_alpha=-1 ";
+  const GiRun every = run_gi(kMirror, era + "--set specular.path_end=cache_every_vertex", "every_vertex", 16);
+  const GiRun ended = run_gi(kMirror, era + "--set specular.path_end=roughness", "rough_end", 16);
+  ASSERT_EQ(every.exit_code, 0) << every.output;
+  ASSERT_EQ(ended.exit_code, 0) << ended.output;
+  const double e = signal_mean(every, "specular", 8), r = signal_mean(ended, "specular", 8);
+  EXPECT_GT(e, 1.2 * r) << e << " " << r;
+  EXPECT_EQ(signal_mean(every, "di", 0), signal_mean(ended, "di", 0));
+}
+
 // Issue 25's measure: a run with two chains reports each signal's per-frame
 // noise from the chains and over time; a one-chain run reports only the
 // temporal figure, and says so with a null.

@@ -42,6 +42,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_POWER_MIS", specular_power_mis ? "1" : "0"},
           {"SPECULAR_PATH_SPREAD", specular_path_spread ? "1" : "0"},
           {"SPECULAR_PATH_LONG_RAY", specular_path_long_ray ? "1" : "0"},
+          {"SPECULAR_CACHE_EVERY_VERTEX", specular_cache_every_vertex ? "1" : "0"},
           {"SPECULAR_RUSSIAN_ROULETTE", specular_russian_roulette ? "1" : "0"},
           {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},

@@ -106,6 +106,11 @@ struct GiSettings {
   // or a ray longer than √3 cells once the path's summed alpha exceeds
   // specular.reuse_gi_roughness (secondary_hit.h, GlossyPathEnd).
   bool specular_path_long_ray = false;
+  // specular.path_end "cache_every_vertex" (Bevy main between #21355 and
+  // #21907, never released): the cache's light added at every vertex of a
+  // glossy path that goes on along the GGX lobe, no emission, no NEE
+  // (specular_gi.comp, trace_glossy_path_cache_every_vertex).
+  bool specular_cache_every_vertex = false;
   // specular.russian_roulette (Solari 0.19): after each glossy bounce.
   bool specular_russian_roulette = false;
   // specular.di_handover_alpha: at a primary alpha ≤ this the glossy path

@@ -34,6 +34,40 @@ vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, GlossyPa
   return glossy_path_radiance(hit, dir, gi_pixel_query(query_id, false), path_end, rng);
 }
 
+#if SPECULAR_CACHE_EVERY_VERTEX != 0
+// Solari's glossy path before #21907 (6c22c9b444^:realtime/specular_gi.wgsl:
+// 71-105), as the specular GI of #21355 shipped on main: up to three
+// vertices, each adding the world cache's diffuse light (end_path_radiance)
+// while the path goes on along the GGX lobe (VNDF-sampled, weighted with the
+// full BRDF); it ends after a hit rougher than alpha 0.1, not at the first;
+// no emission and no NEE anywhere.
+vec3 trace_glossy_path_cache_every_vertex(vec3 position, vec3 ng, vec3 dir, uint query_id, inout uint rng) {
+  CacheQuery q = gi_pixel_query(query_id, false);
+  vec3 radiance = vec3(0.0);
+  vec3 throughput = vec3(1.0);
+  vec3 origin = offset_ray_origin(position, ng);
+  for (uint vertex = 0u; vertex < 3u; ++vertex) {
+    Hit hit;
+    if (!trace_closest(origin, dir, RAY_TMAX, hit)) break;
+    SurfacePoint s = surface_at_hit(hit);
+    vec3 hng = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
+    vec3 hns = dot(s.shading_normal, hng) < 0.0 ? -s.shading_normal : s.shading_normal;
+    vec3 v = -dir;
+    radiance += throughput * end_path_radiance(s, hng, hns, v, hit.t, q, rng);
+    BrdfParams brdf = material_brdf(s.material);
+    if (brdf.alpha > 0.1 && vertex != 0u) break;
+    q.first_bounce = 0u;
+    vec3 l = to_world(sample_ggx_bounded_vndf(from_world(v, hns), brdf.alpha, rng_next_vec2(rng)), hns);
+    if (dot(l, hng) <= 0.0 || dot(l, hns) <= 0.0) break;
+    float pdf = ggx_bounded_vndf_pdf(from_world(v, hns), from_world(l, hns), brdf.alpha);
+    throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0) / pdf);
+    origin = offset_ray_origin(s.position, hng);
+    dir = l;
+  }
+  return radiance;
+}
+#endif
+
 void main() {
   uvec2 resolution = frame.resolution_frame.xy;
   uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -71,9 +105,15 @@ void main() {
 #if SPECULAR_PATH_LONG_RAY != 0 && GI_HIT_RADIANCE == 2
       path_end.path_roughness = alpha;
 #endif
+#if SPECULAR_CACHE_EVERY_VERTEX != 0
+      if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
+        color = specular_sample_weight(brdf, d.ns, d.view, wi) *
+                trace_glossy_path_cache_every_vertex(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), rng);
+#else
       if (dot(wi, d.ng) > 0.0 && dot(wi, d.ns) > 0.0)
         color = specular_sample_weight(brdf, d.ns, d.view, wi) *
                 trace_glossy_path(d.position, d.ng, wi, gi_cache_query_id(1u, chain, index), path_end, rng);
+#endif
     }
   }
   if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);
