@@ -39,6 +39,7 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.emissive_unexposed = p.text("restir_di.emissive_exposure") == "unexposed";
   s.sun_center = p.text("light_tiles.sun_sampling") == "center";
   s.show_background = p.text("restir_di.background") == "clear_color";
+  s.spatial_radius_halving = p.text("restir_di.spatial_search") == "halving";
   s.chains = chains;
   if (with_specular_gi) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   return s;
@@ -112,6 +113,7 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.confidence_cap = static_cast<float>(p.number("restir_gi.confidence_cap"));
   s.spatial_radius = static_cast<float>(p.number("restir_gi.spatial_radius_px"));
   s.spatial_tries = static_cast<std::uint32_t>(p.integer("restir_di.spatial_tries"));
+  s.spatial_radius_halving = p.text("restir_di.spatial_search") == "halving";
   s.plane_tolerance = static_cast<float>(p.number("restir_di.dissimilar_plane_tolerance"));
   s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
   s.jacobian_reject = static_cast<float>(p.number("restir_gi.jacobian_reject"));

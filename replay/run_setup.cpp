@@ -61,7 +61,8 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     checks.push_back(make_check(context));
     needs.push_back(checks.back()->needs());
   }
-  bool gbuffer = false, two_chains = scenario.noise, root_frame = false, temporal_edges = false;
+  bool gbuffer = false, two_chains = scenario.noise, root_frame = false, temporal_edges = false,
+       path_counters = false;
   for (const CheckNeeds& n : needs) {
     captures.insert(n.captures.begin(), n.captures.end());
     record_hashes = record_hashes || n.record_hashes;
@@ -69,6 +70,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     two_chains = two_chains || n.two_chains;
     root_frame = root_frame || n.cache_root_frame;
     temporal_edges = temporal_edges || n.gi_temporal_edges;
+    path_counters = path_counters || n.gi_path_counters;
     warmup_frames = std::max(warmup_frames, n.warmup_frames);
   }
   // Captures carry the run's hashes (replay --verify), replays record theirs.
@@ -92,6 +94,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   if (gi) {
     r.gi = gi_settings_from_profile(profile, chains);
     r.gi->temporal_edge_stats = temporal_edges;  // compiled in only for a check that reads it
+    r.gi->path_counters = path_counters;
   }
   if (cache_fed) {
     gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);

@@ -138,6 +138,16 @@ struct GiStats {
   uint histogram[32];         // log2(J) of accepted merges, one bin per power of two
 };
 
+// Path counters (GI_PATH_COUNTERS, compiled in only for a check that reads
+// them: ray_budget, spatial_acceptance), chain A only, integer atomics. A
+// buffer of its own, so a run without them hashes the same state as before.
+struct GiCounters {
+  uint specular_paths;     // pixels that traced a glossy path
+  uint specular_segments;  // closest-hit rays those paths traced (shadow rays not counted)
+  uint spatial_pixels;     // pixels that looked for a spatial neighbour
+  uint spatial_found;      // of those, the pixels that found one (a similar surface in the disk)
+};
+
 GI_FN uint gi_jacobian_bin(float j) {
   if (!(j > 0.0f)) return 0u;
   int b = int(floor(log2(j))) - GI_JACOBIAN_HISTOGRAM_MIN_LOG2;

@@ -208,6 +208,9 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
 #endif
     dir = l;
     q.first_bounce = 0u;  // a later vertex is not GI's first bounce
+#ifdef GLOSSY_SEGMENT_TRACED
+    GLOSSY_SEGMENT_TRACED();  // the includer's ray count (specular_gi.comp, GI_PATH_COUNTERS)
+#endif
     if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
       radiance += throughput * escaped_radiance(dir, previous_pdf);
       break;

@@ -13,6 +13,7 @@ using namespace gi::shader;
 static_assert(sizeof(GiReservoir) == 48);
 static_assert(sizeof(GiSurface) == 48);
 static_assert(sizeof(GiStats) == 40 * 4);
+static_assert(sizeof(GiCounters) == 4 * 4);
 
 namespace {
 constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -35,8 +36,11 @@ GiPipeline::GiPipeline(Device& device, ShaderCompiler& compiler, const GiSetting
                "GI history reservoirs"),
       initial_temporal_(device, compiler, s),
       spatial_shade_(device, compiler, s),
-      stats_host_(device, stats_) {
+      stats_host_(device, stats_),
+      counters_(device, s.path_counters ? sizeof(GiCounters) : sizeof(std::uint32_t), kStorage, "GI path counters") {
   if (s.specular) specular_.emplace(device, compiler, s);
+  counters_.fill_zero();
+  if (s.path_counters) counters_host_.emplace(device, counters_);
   for (Buffer* b : {&stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
                     &specular_accumulation_, &history_})
     b->fill_zero();
@@ -45,6 +49,7 @@ GiPipeline::GiPipeline(Device& device, ShaderCompiler& compiler, const GiSetting
 void GiPipeline::bind(const SceneResources& scene, const Buffer& gbuffer, const WorldCache* world_cache) {
   GiBuffers b{&gbuffer, &stored_, &mid_, &surfaces_, &output_, &accumulation_, &stats_, &specular_output_,
               &specular_accumulation_, &history_};
+  if (settings_.path_counters) b.counters = &counters_;
   if (settings_.queries_world_cache()) {
     if (!world_cache) throw std::logic_error("GiPipeline::bind: hit_radiance world_cache without a world cache");
     b.world_cache = world_cache->buffer_table();
@@ -58,6 +63,7 @@ void GiPipeline::record(VkCommandBuffer cmd, GpuTimer& timer, bool accumulate, s
                         std::uint32_t seed) {
   // Zeroed on the queue, before this frame's passes count into it.
   stats_.record_fill_zero(cmd);
+  if (settings_.path_counters) counters_.record_fill_zero(cmd);
   GiPushConstants push{};
   push.chain_count = settings_.chains;
   push.history_valid = history_valid_ ? 1u : 0u;
@@ -113,6 +119,7 @@ GiFrameStats GiPipeline::stats() const {
   f.temporal_edge_pixels = s.temporal_edge_pixels;
   f.temporal_edge_reused = s.temporal_edge_reused;
   f.log2_j_histogram.assign(std::begin(s.histogram), std::end(s.histogram));
+  if (counters_host_) f.counters = counters_host_->read<GiCounters>(1)[0];
   return f;
 }
 
@@ -126,6 +133,8 @@ void GiPipeline::list_state(StateList& out) {
   out.push_back({"gi/output", &output_, "<f4", {c, h, w, 4}, "rgb diffuse GI, w 1 on a hit"});
   out.push_back({"gi/accumulation", &accumulation_, "<f4", {c, h, w, 4}, "rgb sum, w frames"});
   out.push_back({"gi/stats", &stats_, "<u4", {40}, "GiStats (core/shared/restir_gi.h)"});
+  if (settings_.path_counters)
+    out.push_back({"gi/counters", &counters_, "<u4", {4}, "GiCounters (core/shared/restir_gi.h)"});
   if (specular_) {
     out.push_back({"specular/output", &specular_output_, "<f4", {c, h, w, 4}, "rgb specular GI, w 1 on a hit"});
     out.push_back({"specular/accumulation", &specular_accumulation_, "<f4", {c, h, w, 4}, "rgb sum, w frames"});

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/shared/restir_gi.h"
 #include "gpu/buffer.h"
 #include "gpu/host_mirror.h"
 #include "gpu/passes/restir_gi.h"
@@ -27,7 +28,10 @@ struct GiFrameStats {
   // With GiSettings::temporal_edge_stats: chain A's edge pixels that had an
   // on-screen history, and those whose temporal reuse found it usable.
   std::uint32_t temporal_edge_pixels = 0, temporal_edge_reused = 0;
-  std::vector<std::uint32_t> log2_j_histogram;  // bin b: 2^(b−16) ≤ J < 2^(b−15); bin 0 holds J = 0
+  std::vector<std::uint32_t> log2_j_histogram;
+  // With GiSettings::path_counters (chain A): glossy paths and their
+  // closest-hit rays; pixels that sought a spatial neighbour, and found one.
+  std::optional<shader::GiCounters> counters;  // bin b: 2^(b−16) ≤ J < 2^(b−15); bin 0 holds J = 0
 };
 
 class GiPipeline {
@@ -52,7 +56,10 @@ class GiPipeline {
   // The statistics as record_readbacks copied them (the end of the frame).
   GiFrameStats stats() const;
   // At the end of the frame's command buffer: the statistics' copy for the host.
-  void record_readbacks(VkCommandBuffer cmd) const { stats_host_.record_copy(cmd); }
+  void record_readbacks(VkCommandBuffer cmd) const {
+    stats_host_.record_copy(cmd);
+    if (counters_host_) counters_host_->record_copy(cmd);
+  }
   const GiSettings& settings() const { return settings_; }
 
   void list_state(StateList& out);
@@ -71,6 +78,8 @@ class GiPipeline {
   GiSpatialShade spatial_shade_;
   std::optional<SpecularGi> specular_;
   HostMirror stats_host_;
+  Buffer counters_;  // GiCounters with settings.path_counters (else one unused word)
+  std::optional<HostMirror> counters_host_;
   bool history_valid_ = false;
 };
 

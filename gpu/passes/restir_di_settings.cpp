@@ -31,7 +31,8 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"},
           {"DI_SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"},
-          {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"}};
+          {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"},
+          {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"}};
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
   if (show_background && background != glm::vec3(0.0f))
     d.push_back({"DI_BACKGROUND", fmt::format("vec3({},{},{})", f(background.x), f(background.y), f(background.z))});

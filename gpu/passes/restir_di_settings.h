@@ -58,6 +58,10 @@ struct DiSettings {
   // restir_di.background "clear_color" (0.18 on): the scene's background
   // radiance where the camera ray misses; false ("black", 0.17): black there.
   bool show_background = true;
+  // restir_di.spatial_search "halving" (Bevy d1095b0efb #22617, removed again
+  // by #23968 before v0.19.0): each refused spatial try halves the disk's
+  // radius; false ("fixed", every release): the full disk every try.
+  bool spatial_radius_halving = false;
   glm::vec3 background{0.0f};  // Scene::background
   // true: the initial winner's shadow ray zeroes its W and that W is stored
   // and reused (0.17 and 0.18 as released); false: the ray is not traced and

@@ -12,10 +12,12 @@ using namespace gi::shader;
 
 namespace {
 
-std::vector<DescriptorBinding> descriptor_bindings(const std::vector<std::uint32_t>& gi, bool world_cache) {
+std::vector<DescriptorBinding> descriptor_bindings(const std::vector<std::uint32_t>& gi, bool world_cache,
+                                                   bool counters) {
   std::vector<DescriptorBinding> b = scene_descriptor_bindings();
   b.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   b.push_back({BINDING_GI_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  if (counters) b.push_back({BINDING_GI_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   for (std::uint32_t n : gi) b.push_back({n, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   // Every GI pass includes world_cache_common.glsl then: the cache's whole table.
   if (world_cache)
@@ -47,9 +49,10 @@ GiPass::GiPass(Device& device, ShaderCompiler& compiler, const GiSettings& setti
                const char* shader, std::vector<std::uint32_t> gi_bindings)
     : chains_(settings.chains),
       world_cache_(settings.queries_world_cache()),
+      counters_(settings.path_counters),
       gi_bindings_(std::move(gi_bindings)),
       pass_(device, name, compiler.compile_file(shader, settings.defines()).spirv,
-            descriptor_bindings(gi_bindings_, world_cache_), sizeof(GiPushConstants)) {
+            descriptor_bindings(gi_bindings_, world_cache_, counters_), sizeof(GiPushConstants)) {
   if (world_cache_ && settings.world_cache_defines.empty())
     throw std::logic_error("GiPass: hit_radiance world_cache without the cache's defines (GiSettings::world_cache_defines)");
 }
@@ -58,6 +61,10 @@ void GiPass::bind(const SceneResources& scene, const GiBuffers& b) {
   pass_.bind_scene(scene);
   pass_.bind_buffer(BINDING_GBUFFER, *b.gbuffer);
   pass_.bind_buffer(BINDING_GI_STATS, *b.stats);
+  if (counters_) {
+    if (!b.counters) throw std::logic_error("GiPass: path counters compiled in without their buffer");
+    pass_.bind_buffer(BINDING_GI_COUNTERS, *b.counters);
+  }
   for (std::uint32_t n : gi_bindings_) pass_.bind_buffer(n, buffer_for(n, b));
   if (world_cache_) {
     if (b.world_cache.empty()) throw std::logic_error("GiPass: hit_radiance world_cache without the cache's buffers");

@@ -25,6 +25,7 @@ class GiPass {
  private:
   std::uint32_t chains_;
   bool world_cache_;  // the cache's bindings (restir_gi.hit_radiance world_cache)
+  bool counters_;     // GiCounters' binding (GiSettings::path_counters)
   std::vector<std::uint32_t> gi_bindings_;
   ComputePass pass_;
 };

@@ -23,6 +23,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_TEMPORAL_PERMUTATION", temporal_permutation ? "1" : "0"},
           {"GI_TEMPORAL_FALLBACK", std::to_string(static_cast<int>(temporal_fallback))},
           {"GI_TEMPORAL_EDGE_STATS", temporal_edge_stats ? "1" : "0"},
+          {"GI_PATH_COUNTERS", path_counters ? "1" : "0"},
+          {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"},
           {"GI_TARGET_BRDF", target_brdf ? "1" : "0"},
           {"GI_TEMPORAL_HISTORY", temporal_history_pre_spatial ? "1" : "0"},
           {"GI_EMPTY_NO_CONFIDENCE", empty_no_confidence ? "1" : "0"},

@@ -29,6 +29,11 @@ struct GiSettings {
   // (temporal_acceptance): chain A's temporal reuse at edge pixels, counted
   // into GiStats.temporal_edge_pixels / temporal_edge_reused.
   bool temporal_edge_stats = false;
+  // Instrumentation likewise (ray_budget, spatial_acceptance): the glossy
+  // paths' closest-hit rays and the spatial search's outcome, chain A, into
+  // GiCounters (a buffer that exists only then).
+  bool path_counters = false;
+  bool spatial_radius_halving = false;  // restir_di.spatial_search (DiSettings::spatial_radius_halving)
   // What temporal reuse does when the permuted pixel is unusable
   // (restir_gi.temporal_fallback): none (one try), point (Solari 0.18: the
   // unpermuted reprojection when the permuted surface differs or its
@@ -140,6 +145,7 @@ struct GiBuffers {
   const Buffer* specular_output = nullptr;
   const Buffer* specular_accumulation = nullptr;
   const Buffer* history = nullptr;
+  const Buffer* counters = nullptr;  // GiSettings::path_counters
   // The world cache's buffers by binding number (WorldCache::buffer_table),
   // when the passes query it.
   std::vector<std::pair<std::uint32_t, const Buffer*>> world_cache;

@@ -15,6 +15,7 @@ GI_CONST uint BINDING_GI_ACCUMULATION = 74u;       // vec4[chains · pixels]: rg
 GI_CONST uint BINDING_GI_STATS = 75u;              // GiStats: this frame's statistics (zeroed by the host)
 GI_CONST uint BINDING_SPECULAR_OUTPUT = 76u;       // vec4[chains · pixels]: this frame's specular GI
 GI_CONST uint BINDING_SPECULAR_ACCUMULATION = 77u; // vec4[chains · pixels]: rgb sum, w frames
+GI_CONST uint BINDING_GI_COUNTERS = 79u;          // GiCounters (GI_PATH_COUNTERS; zeroed by the host)
 GI_CONST uint BINDING_GI_RESERVOIRS_HISTORY = 78u; // GiReservoir[chains · pixels]: this frame's temporal merge,
                                                    // next frame's history (GI_TEMPORAL_HISTORY 1; else one slot)
 

@@ -34,6 +34,9 @@ layout(push_constant) uniform Push { GiPushConstants push; };
 
 layout(std430, set = 0, binding = BINDING_GBUFFER) readonly buffer GBuffer { GBufferTexel gbuffer[]; };
 layout(std430, set = 0, binding = BINDING_GI_STATS) buffer Stats { GiStats gi_stats; };
+#if GI_PATH_COUNTERS != 0
+layout(std430, set = 0, binding = BINDING_GI_COUNTERS) buffer Counters { GiCounters gi_counters; };
+#endif
 
 vec3 gi_target_colour(vec3 base_color);
 

@@ -50,9 +50,14 @@ void main() {
 
     int neighbour = -1;
     GiPixel n;
+    float search_radius = float(GI_SPATIAL_RADIUS);
     for (uint attempt = 0u; attempt < uint(GI_SPATIAL_TRIES); ++attempt) {
+#if SPATIAL_RADIUS_HALVING != 0
+      // Bevy d1095b0efb (#22617) to 11b81eb1d7^: each refused try halves the disk.
+      if (attempt > 0u) search_radius *= 0.5;
+#endif
       vec2 u = rng_next_vec2(rng);
-      float r = float(GI_SPATIAL_RADIUS) * sqrt(u.x);
+      float r = search_radius * sqrt(u.x);
       float phi = TWO_PI * u.y;
       ivec2 q = ivec2(pixel) + ivec2(round(vec2(r * cos(phi), r * sin(phi))));
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(resolution))) || q == ivec2(pixel)) continue;
@@ -62,6 +67,12 @@ void main() {
       n = candidate;
       break;
     }
+#if GI_PATH_COUNTERS != 0
+    if (chain == 0u) {
+      atomicAdd(gi_counters.spatial_pixels, 1u);
+      if (neighbour >= 0) atomicAdd(gi_counters.spatial_found, 1u);
+    }
+#endif
     if (neighbour >= 0) {
       GiReservoir other = mid_reservoirs[chain * pixels + uint(neighbour)];
 #if GI_VISIBILITY_FINAL == 0

@@ -18,6 +18,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
+#if GI_PATH_COUNTERS != 0
+// This invocation's closest-hit rays along its glossy path (the ray_budget
+// check): counted here and in secondary_hit.h's loop, added once per pixel.
+uint glossy_segments_traced = 0u;
+#define GLOSSY_SEGMENT_TRACED() ++glossy_segments_traced
+#else
+#define GLOSSY_SEGMENT_TRACED()
+#endif
 #include "gpu/shaders/gi_common.glsl"
 
 layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
@@ -30,6 +38,7 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumula
 // first hit's emission, escaped light): glossy_path_radiance from the first hit.
 vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, GlossyPathEnd path_end, inout uint rng) {
   Hit hit;
+  GLOSSY_SEGMENT_TRACED();
   if (!trace_closest(offset_ray_origin(position, ng), dir, RAY_TMAX, hit)) return vec3(0.0);
   return glossy_path_radiance(hit, dir, gi_pixel_query(query_id, false), path_end, rng);
 }
@@ -48,6 +57,7 @@ vec3 trace_glossy_path_cache_every_vertex(vec3 position, vec3 ng, vec3 dir, uint
   vec3 origin = offset_ray_origin(position, ng);
   for (uint vertex = 0u; vertex < 3u; ++vertex) {
     Hit hit;
+    GLOSSY_SEGMENT_TRACED();
     if (!trace_closest(origin, dir, RAY_TMAX, hit)) break;
     SurfacePoint s = surface_at_hit(hit);
     vec3 hng = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
@@ -117,6 +127,12 @@ void main() {
     }
   }
   if (!(gi_finite(color.r) && gi_finite(color.g) && gi_finite(color.b))) atomicAdd(gi_stats.nonfinite_output, 1u);
+#if GI_PATH_COUNTERS != 0
+  if (chain == 0u && glossy_segments_traced > 0u) {
+    atomicAdd(gi_counters.specular_paths, 1u);
+    atomicAdd(gi_counters.specular_segments, glossy_segments_traced);
+  }
+#endif
   specular_output[slot] = vec4(color, d.hit ? 1.0 : 0.0);
   if (push.accumulate != 0u) specular_accumulation[slot] += vec4(color, 1.0);
 }

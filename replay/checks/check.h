@@ -88,6 +88,7 @@ struct CheckNeeds {
   bool two_chains = false;        // a second independent realtime chain
   bool cache_root_frame = false;  // the world cache's root-frame instrumentation
   bool gi_temporal_edges = false; // ReSTIR GI's temporal-reuse counts at edge pixels (GiFrameStats)
+  bool gi_path_counters = false;  // glossy-path rays and spatial-search outcomes (GiFrameStats::counters)
   bool record_hashes = false;     // per-frame state hashes (buffer_hashes.jsonl)
   std::set<std::uint32_t> captures = {};  // frames captured for the check
   // Realtime accumulation windows start this many frames into each static window.
