@@ -2,6 +2,7 @@
 // accepts is made through it, declares what it reads, and a FrameView holds
 // it to that declaration.
 #include <filesystem>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -51,9 +52,14 @@ TEST(CheckRegistry, EveryDeclaredCheckIsMadeThroughTheRegistry) {
   EXPECT_EQ(names, check_files());
   EXPECT_GE(names.size(), 7u);
   nlohmann::json checks = nlohmann::json::array();
-  // ray_budget has no default budget (a budget is the scenario's to set).
-  for (const std::string& n : names)
-    checks.push_back(n == "ray_budget" ? nlohmann::json{{"name", n}, {"max_rays_per_path", 2.0}} : nlohmann::json{{"name", n}});
+  // ray_budget and highlight_noise have no default limit (the scenario's to set).
+  const std::map<std::string, nlohmann::json> required = {{"ray_budget", {{"max_rays_per_path", 2.0}}},
+                                                          {"highlight_noise", {{"max_relmse", 1.0}}}};
+  for (const std::string& n : names) {
+    nlohmann::json spec = {{"name", n}};
+    if (required.count(n)) spec.update(required.at(n));
+    checks.push_back(spec);
+  }
   const Scenario s = realtime_gi_scenario(checks);
   const Profile profile = resolve_profile(s);
   const Scene initial = build_scene(s);

@@ -15,6 +15,7 @@
 #include "core/profile.h"
 #include "gpu/passes/gi_pipeline.h"
 #include "replay/checks/check_registry.h"
+#include "replay/checks/judged_frames.h"
 
 namespace gi {
 namespace {
@@ -30,12 +31,7 @@ class RayBudgetCheck final : public Check {
     if (!p.contains("max_rays_per_path"))
       c.refuse("max_rays_per_path", "the budget is the scenario's: give max_rays_per_path (rays per glossy path)");
     limit_ = (r.number(p["max_rays_per_path"], at + "/max_rays_per_path", 1.0, 1e6), p["max_rays_per_path"].get<double>());
-    if (p.contains("frames")) {
-      const nlohmann::json& f = r.array(p["frames"], at + "/frames", 1);
-      std::set<std::uint32_t> judged;
-      for (std::size_t i = 0; i < f.size(); ++i) judged.insert(r.uint(f[i], JsonReader::at(at + "/frames", i), 0, c.frames - 1));
-      judged_ = judged;
-    }
+    judged_ = judged_frames(c);
   }
 
   CheckNeeds needs() const override {

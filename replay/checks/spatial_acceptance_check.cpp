@@ -14,6 +14,7 @@
 #include "core/json_reader.h"
 #include "gpu/passes/gi_pipeline.h"
 #include "replay/checks/check_registry.h"
+#include "replay/checks/judged_frames.h"
 
 namespace gi {
 namespace {
@@ -27,12 +28,7 @@ class SpatialAcceptanceCheck final : public Check {
     const std::string& at = c.spec.json_path;
     if (p.contains("min_found"))
       min_share_ = (r.number(p["min_found"], at + "/min_found", 0.0, 1.0), p["min_found"].get<double>());
-    if (p.contains("frames")) {
-      const nlohmann::json& f = r.array(p["frames"], at + "/frames", 1);
-      std::set<std::uint32_t> judged;
-      for (std::size_t i = 0; i < f.size(); ++i) judged.insert(r.uint(f[i], JsonReader::at(at + "/frames", i), 0, c.frames - 1));
-      judged_ = judged;
-    }
+    judged_ = judged_frames(c);
   }
 
   CheckNeeds needs() const override {

@@ -19,6 +19,7 @@
 #include "core/json_reader.h"
 #include "gpu/passes/gi_pipeline.h"
 #include "replay/checks/check_registry.h"
+#include "replay/checks/judged_frames.h"
 
 namespace gi {
 namespace {
@@ -37,13 +38,8 @@ class TemporalAcceptanceCheck final : public Check {
     const std::string& at = c.spec.json_path;
     if (p.contains("min_edge_reuse"))
       min_share_ = (r.number(p["min_edge_reuse"], at + "/min_edge_reuse", 0.0, 1.0), p["min_edge_reuse"].get<double>());
-    if (p.contains("frames")) {
-      const nlohmann::json& f = r.array(p["frames"], at + "/frames", 1);
-      std::set<std::uint32_t> judged;
-      for (std::size_t i = 0; i < f.size(); ++i)
-        judged.insert(r.uint(f[i], JsonReader::at(at + "/frames", i), 1, c.frames - 1));
-      judged_ = judged;
-    } else if (c.frames < 2) {
+    judged_ = judged_frames(c, 1);
+    if (!judged_ && c.frames < 2) {
       c.refuse("", "needs two frames: frame 0 has no history");
     }
   }
