@@ -3,6 +3,8 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <tuple>
+#include <utility>
 
 #include <sys/wait.h>
 
@@ -57,6 +59,23 @@ std::filesystem::path write_scenario_variant(const std::string& scenario, const 
   const std::filesystem::path file = dir / file_name;
   std::ofstream(file) << doc.dump(1);
   return file;
+}
+
+std::pair<nlohmann::json, nlohmann::json> run_with_and_without_checks(const std::string& scenario,
+                                                                      const std::filesystem::path& dir, int frames) {
+  const auto with = write_scenario_variant(scenario, dir, "with.json", [&](nlohmann::json& doc) { doc["frames"] = frames; });
+  const auto without = write_scenario_variant(scenario, dir, "without.json", [&](nlohmann::json& doc) {
+    doc["frames"] = frames;
+    doc["checks"] = {{{"name", "finite"}}};
+  });
+  std::pair<nlohmann::json, nlohmann::json> summaries;
+  for (const auto& [file, out, summary] : {std::tuple{with, dir / "with", &summaries.first},
+                                           std::tuple{without, dir / "without", &summaries.second}}) {
+    const auto r = run_giharness("run " + file.string() + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    if (std::filesystem::exists(out / "summary.json")) *summary = read_json(out / "summary.json");
+  }
+  return summaries;
 }
 
 std::string read_text(const std::filesystem::path& file) {

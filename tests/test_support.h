@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -73,6 +74,12 @@ nlohmann::json check_result(const std::filesystem::path& out, const std::string&
 std::filesystem::path write_scenario_variant(const std::string& scenario, const std::filesystem::path& dir,
                                              const std::string& file_name,
                                              const std::function<void(nlohmann::json&)>& edit);
+// Runs a repository scenario for `frames` frames twice, as it is and with
+// its checks cut to "finite", under <dir>/with and <dir>/without; returns the
+// two summary.json documents (empty where a run failed, which it reports).
+// For showing that a check's instrumentation leaves the pipeline's bits alone.
+std::pair<nlohmann::json, nlohmann::json> run_with_and_without_checks(const std::string& scenario,
+                                                                      const std::filesystem::path& dir, int frames);
 // The file's bytes (empty when it cannot be read).
 std::string read_text(const std::filesystem::path& file);
 
