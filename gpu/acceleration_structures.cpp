@@ -70,7 +70,7 @@ void AccelerationStructures::add_meshes(const FlatGeometry& geometry, const Buff
       throw DeviceError(fmt::format("AccelerationStructures::add_meshes: mesh {} changed; meshes may only be appended", m));
   meshes_ = geometry.meshes;
   build_blases(geometry, vertices, indices);
-  built_once_ = false;  // the next update() rebuilds the TLAS
+  force_rebuild_ = true;  // the next update() rebuilds the TLAS
 }
 
 // Builds the BLAS of every mesh that has none yet (blas_ shorter than meshes_).
@@ -151,7 +151,8 @@ void AccelerationStructures::build_blases(const FlatGeometry& geometry, const Bu
 
 AccelerationStructures::~AccelerationStructures() {
   vkDeviceWaitIdle(device_.handle());
-  destroy(tlas_);
+  destroy(current_.as);
+  destroy(previous_.as);
   for (auto& b : blas_) destroy(b);
 }
 
@@ -179,17 +180,27 @@ bool AccelerationStructures::update(const std::vector<GpuInstance>& instances, c
     records.push_back(rec);
   }
 
-  const bool same = built_once_ && records.size() == last_records_.size() &&
-                    (records.empty() || std::memcmp(records.data(), last_records_.data(),
-                                                    records.size() * sizeof(records[0])) == 0);
-  if (same) return false;
-  build_tlas(records);
-  last_records_ = std::move(records);
-  built_once_ = true;
-  return true;
+  const bool rebuilt = force_rebuild_ || !current_.holds(records);
+  force_rebuild_ = false;
+  if (rebuilt) {
+    build_tlas(current_, std::move(records));
+    tlas_instance_count_ = std::uint32_t(current_.records.size());
+    ++tlas_builds_;
+  }
+  if (keep_previous_ && !previous_.built) build_tlas(previous_, current_.records);  // the first frame's
+  return rebuilt;
 }
 
-void AccelerationStructures::build_tlas(const std::vector<VkAccelerationStructureInstanceKHR>& records) {
+void AccelerationStructures::end_frame() {
+  if (keep_previous_ && current_.built && !previous_.holds(current_.records)) build_tlas(previous_, current_.records);
+}
+
+bool AccelerationStructures::TopLevel::holds(const std::vector<VkAccelerationStructureInstanceKHR>& r) const {
+  return built && r.size() == records.size() &&
+         (r.empty() || std::memcmp(r.data(), records.data(), r.size() * sizeof(r[0])) == 0);
+}
+
+void AccelerationStructures::build_tlas(TopLevel& top, std::vector<VkAccelerationStructureInstanceKHR> records) {
   const std::uint32_t count = std::uint32_t(records.size());
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   g.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
@@ -205,24 +216,25 @@ void AccelerationStructures::build_tlas(const std::vector<VkAccelerationStructur
 
   // (Re)allocate when the instance count outgrows the storage; the handle
   // then changes and descriptors must be rewritten.
-  if (!tlas_.handle || count > tlas_capacity_) {
+  if (!top.as.handle || count > top.capacity) {
     vkDeviceWaitIdle(device_.handle());
-    destroy(tlas_);
-    tlas_capacity_ = std::max<std::uint32_t>(count, std::max<std::uint32_t>(2 * tlas_capacity_, 16));
+    destroy(top.as);
+    top.capacity = std::max<std::uint32_t>(count, std::max<std::uint32_t>(2 * top.capacity, 16));
     VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
     device_.khr().get_acceleration_structure_build_sizes(
-        device_.handle(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &tlas_capacity_, &sizes);
-    tlas_ = create(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, sizes.accelerationStructureSize, "tlas");
+        device_.handle(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &top.capacity, &sizes);
+    top.as = create(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, sizes.accelerationStructureSize,
+                    &top == &previous_ ? "previous tlas" : "tlas");
     const VkDeviceSize align = device_.min_scratch_offset_alignment();
-    tlas_scratch_ = Buffer(device_, sizes.buildScratchSize + align, kScratchUsage, "tlas scratch");
-    tlas_instances_ = Buffer(device_, VkDeviceSize(tlas_capacity_) * sizeof(VkAccelerationStructureInstanceKHR),
-                             kInputUsage, "tlas instances");
+    top.scratch = Buffer(device_, sizes.buildScratchSize + align, kScratchUsage, "tlas scratch");
+    top.instances = Buffer(device_, VkDeviceSize(top.capacity) * sizeof(VkAccelerationStructureInstanceKHR),
+                           kInputUsage, "tlas instances");
     tlas_handle_changed_ = true;
   }
-  tlas_instances_.upload(records);
-  g.geometry.instances.data.deviceAddress = tlas_instances_.device_address();
-  info.dstAccelerationStructure = tlas_.handle;
-  info.scratchData.deviceAddress = align_up(tlas_scratch_.device_address(), device_.min_scratch_offset_alignment());
+  top.instances.upload(records);
+  g.geometry.instances.data.deviceAddress = top.instances.device_address();
+  info.dstAccelerationStructure = top.as.handle;
+  info.scratchData.deviceAddress = align_up(top.scratch.device_address(), device_.min_scratch_offset_alignment());
   VkAccelerationStructureBuildRangeInfoKHR range{};
   range.primitiveCount = count;
   const VkAccelerationStructureBuildRangeInfoKHR* range_ptr = &range;
@@ -230,8 +242,8 @@ void AccelerationStructures::build_tlas(const std::vector<VkAccelerationStructur
     device_.khr().cmd_build_acceleration_structures(cmd, 1, &info, &range_ptr);
     build_barrier(cmd);
   });
-  tlas_instance_count_ = count;
-  ++tlas_builds_;
+  top.records = std::move(records);
+  top.built = true;
 }
 
 }  // namespace gi::gpu

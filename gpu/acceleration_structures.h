@@ -48,30 +48,46 @@ class AccelerationStructures {
   // (or on the first call). Returns true if it rebuilt.
   bool update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible);
 
-  VkAccelerationStructureKHR tlas() const { return tlas_.handle; }
+  // From now on a second TLAS holds the previous frame's scene (on the first
+  // frame, the current one): DI's temporal MIS visibility
+  // (restir_di.temporal_mis_scene previous_frame, Bevy #25046). update() may
+  // change the current TLAS only; end_frame(), after each rendered frame,
+  // makes the previous one what the current one is (a build only when they differ).
+  void keep_previous_tlas() { keep_previous_ = true; }
+  void end_frame();
+  VkAccelerationStructureKHR tlas() const { return current_.as.handle; }
+  VkAccelerationStructureKHR previous_tlas() const { return previous_.as.handle; }
   std::uint32_t tlas_builds() const { return tlas_builds_; }
   std::uint32_t tlas_instance_count() const { return tlas_instance_count_; }
-  // True once after the TLAS handle changed (it grew): descriptors must be rewritten.
+  // True once after a TLAS handle changed (it grew): descriptors must be rewritten.
   bool take_tlas_handle_changed() { return std::exchange(tlas_handle_changed_, false); }
 
  private:
+  // A TLAS with the storage it is built in and the records of its last build.
+  struct TopLevel {
+    AccelerationStructure as;
+    std::uint32_t capacity = 0;  // instance records the storage was sized for
+    Buffer instances;            // VkAccelerationStructureInstanceKHR[]
+    Buffer scratch;
+    std::vector<VkAccelerationStructureInstanceKHR> records;
+    bool built = false;
+    bool holds(const std::vector<VkAccelerationStructureInstanceKHR>& r) const;
+  };
+
   void destroy(AccelerationStructure& as) noexcept;
   AccelerationStructure create(VkAccelerationStructureTypeKHR type, VkDeviceSize size, const char* name);
   void build_blases(const FlatGeometry& geometry, const Buffer& vertices, const Buffer& indices);
-  void build_tlas(const std::vector<VkAccelerationStructureInstanceKHR>& records);
+  void build_tlas(TopLevel& top, std::vector<VkAccelerationStructureInstanceKHR> records);
 
   Device& device_;
   std::vector<AccelerationStructure> blas_;   // one per mesh; handle null for meshes with no triangles
   std::vector<MeshRange> meshes_;
-  AccelerationStructure tlas_;
-  std::uint32_t tlas_capacity_ = 0;           // instance records the TLAS storage was sized for
-  Buffer tlas_instances_;                     // VkAccelerationStructureInstanceKHR[]
-  Buffer tlas_scratch_;
-  std::uint32_t tlas_builds_ = 0;
+  TopLevel current_, previous_;
+  bool keep_previous_ = false;
+  bool force_rebuild_ = false;  // meshes were added
+  std::uint32_t tlas_builds_ = 0;             // of the current TLAS
   std::uint32_t tlas_instance_count_ = 0;
   bool tlas_handle_changed_ = false;
-  bool built_once_ = false;
-  std::vector<VkAccelerationStructureInstanceKHR> last_records_;  // of the last build
 };
 
 }  // namespace gi::gpu

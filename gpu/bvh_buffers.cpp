@@ -1,5 +1,7 @@
 #include "gpu/bvh_buffers.h"
 
+#include <cstring>
+
 #include <spdlog/spdlog.h>
 
 namespace gi::gpu {
@@ -40,14 +42,38 @@ void BvhBuffers::add_meshes(const FlatGeometry& geometry) {
 }
 
 bool BvhBuffers::update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible) {
-  if (!bvh_.update(instances, visible)) return false;
+  const bool rebuilt = bvh_.update(instances, visible);
+  if (rebuilt) upload_tlas();
+  if (keep_previous_ && !previous_uploaded_) sync_previous();  // the first frame's
+  return rebuilt;
+}
+
+void BvhBuffers::end_frame() {
+  if (keep_previous_) sync_previous();
+}
+
+void BvhBuffers::sync_previous() {
+  const std::vector<shader::BvhNode>& now = bvh_.nodes();
+  if (previous_uploaded_ && now.size() == previous_.size() &&
+      std::memcmp(now.data(), previous_.data(), now.size() * sizeof(now[0])) == 0)
+    return;
+  const VkDeviceSize bytes = now.size() * sizeof(shader::BvhNode);
+  if (!previous_nodes_ || previous_nodes_.size() < bytes) {
+    previous_nodes_ = Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "previous bvh nodes");
+    buffers_changed_ = true;
+  }
+  previous_nodes_.upload(now);
+  previous_ = now;
+  previous_uploaded_ = true;
+}
+
+void BvhBuffers::upload_tlas() {
   if (bvh_.layout_generation() != uploaded_generation_) {
     upload_all();  // the TLAS region grew: every BLAS node moved
   } else {
     const std::span<const shader::BvhNode> region(bvh_.nodes().data(), bvh_.tlas_region_nodes());
     nodes_.upload(region);
   }
-  return true;
 }
 
 }  // namespace gi::gpu

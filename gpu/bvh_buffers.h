@@ -33,6 +33,13 @@ class BvhBuffers {
   // set or a visible transform changed. Returns true if it rebuilt.
   bool update(const std::vector<GpuInstance>& instances, const std::vector<bool>& visible);
 
+  // As AccelerationStructures::keep_previous_tlas and end_frame: a second
+  // node buffer holds the previous frame's node array (BLASes included, so a
+  // relayout cannot mix frames; the triangles are shared, append-only).
+  void keep_previous_nodes() { keep_previous_ = true; }
+  void end_frame();
+  const Buffer& previous_nodes() const { return previous_nodes_; }
+
   const Buffer& nodes() const { return nodes_; }
   const Buffer& triangles() const { return triangles_; }
   // True once after the buffers were replaced: descriptors must be rewritten.
@@ -45,7 +52,12 @@ class BvhBuffers {
 
   Device& device_;
   bvh::SceneBvh bvh_;
-  Buffer nodes_, triangles_;
+  void sync_previous();
+  void upload_tlas();  // after a TLAS rebuild
+
+  Buffer nodes_, triangles_, previous_nodes_;
+  std::vector<shader::BvhNode> previous_;  // what previous_nodes_ holds
+  bool keep_previous_ = false, previous_uploaded_ = false;
   std::uint32_t uploaded_generation_ = 0;
   std::size_t uploaded_triangles_ = 0;
   bool buffers_changed_ = true;

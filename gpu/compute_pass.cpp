@@ -29,6 +29,10 @@ std::vector<DescriptorBinding> scene_descriptor_bindings() {
           {BINDING_DFG_LUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
 }
 
+DescriptorBinding previous_scene_descriptor_binding() {
+  return {BINDING_PREVIOUS_SCENE, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR};
+}
+
 Buffer make_dfg_lut_buffer(Device& device) {
   Buffer b(device, sizeof(DFG_LUT), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "DFG table");
   b.upload(std::span<const std::uint32_t>(DFG_LUT));
@@ -47,6 +51,8 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
       *tlas = {BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
       bindings_.push_back({BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
     }
+    for (DescriptorBinding& b : bindings_)
+      if (b.binding == BINDING_PREVIOUS_SCENE) b.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   }
   try {
     VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -197,6 +203,17 @@ void ComputePass::bind_scene(const SceneResources& scene) {
   bind_buffer(BINDING_FRAME, *scene.frame);
   if (!scene.dfg_lut) throw DeviceError(fmt::format("pass '{}': bound without the DFG table", name_));
   bind_buffer(BINDING_DFG_LUT, *scene.dfg_lut);
+}
+
+void ComputePass::bind_previous_scene(const SceneResources& scene) {
+  if (type_of(BINDING_PREVIOUS_SCENE) == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR) {
+    if (!scene.previous_tlas) throw DeviceError(fmt::format("pass '{}': bound without last frame's TLAS", name_));
+    bind_acceleration_structure(BINDING_PREVIOUS_SCENE, scene.previous_tlas);
+  } else {
+    if (!scene.previous_bvh_nodes)
+      throw DeviceError(fmt::format("pass '{}': bound without last frame's BVH nodes", name_));
+    bind_buffer(BINDING_PREVIOUS_SCENE, *scene.previous_bvh_nodes);
+  }
 }
 
 void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t gy, std::uint32_t gz,

@@ -40,7 +40,15 @@ struct SceneResources {
   const Buffer* bvh_nodes = nullptr;
   const Buffer* bvh_triangles = nullptr;
   const Buffer* dfg_lut = nullptr;  // make_dfg_lut_buffer: BRDF_LAYERED's table
+  // Last frame's scene (BINDING_PREVIOUS_SCENE), where the renderer keeps it:
+  // its TLAS (rayquery) or BVH node array (bvh).
+  VkAccelerationStructureKHR previous_tlas = VK_NULL_HANDLE;
+  const Buffer* previous_bvh_nodes = nullptr;
 };
+
+// The binding of last frame's scene (a pass that traces it lists it; on a
+// bvh Device ComputePass makes it the node buffer's).
+DescriptorBinding previous_scene_descriptor_binding();
 
 // The DFG table (core/shared/dfg_lut.h) as the storage buffer SceneResources binds.
 Buffer make_dfg_lut_buffer(Device& device);
@@ -60,6 +68,8 @@ class ComputePass {
   void bind_buffer(std::uint32_t binding, const Buffer& buffer);
   void bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as);
   void bind_scene(const SceneResources& scene);
+  // BINDING_PREVIOUS_SCENE from `scene` (the pass must list it).
+  void bind_previous_scene(const SceneResources& scene);
 
   // Binds pipeline and set, pushes `push` (push_constant_bytes of it), dispatches.
   void dispatch(VkCommandBuffer cmd, std::uint32_t groups_x, std::uint32_t groups_y, std::uint32_t groups_z = 1,

@@ -48,6 +48,10 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
   compiler.set_global_defines(trace_backend_defines(device.backend()));
   if (device.backend() == TraceBackend::bvh) bvh_.emplace(device, geometry);
   else as_.emplace(device, geometry, vertices_, indices_);
+  if (options.di && options.di->traces_previous_scene()) {  // DI's temporal MIS visibility (Bevy #25046)
+    if (as_) as_->keep_previous_tlas();
+    if (bvh_) bvh_->keep_previous_nodes();
+  }
   mesh_ranges_ = geometry.meshes;
   triangle_count_ = geometry.indices.size() / 3;
   const std::size_t pixels = pixel_count();
@@ -160,7 +164,9 @@ void Renderer::bind_passes() {
   if (bvh_) {
     scene.bvh_nodes = &bvh_->nodes();
     scene.bvh_triangles = &bvh_->triangles();
+    scene.previous_bvh_nodes = &bvh_->previous_nodes();
   }
+  if (as_) scene.previous_tlas = as_->previous_tlas();
   if (primary_visibility_) primary_visibility_->bind(scene, visibility_, depth_, cluster_table_buffer_);
   if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_);
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
@@ -242,6 +248,12 @@ void Renderer::finish_frame() {
   if (!frame_in_flight_) throw DeviceError("Renderer::finish_frame without submit_frame");
   device_.wait();
   frame_in_flight_ = false;
+  // Next frame's "previous scene" is this frame's (kept only for DI's
+  // temporal MIS visibility; a no-op otherwise).
+  if (as_) as_->end_frame();
+  if (bvh_) bvh_->end_frame();
+  if (as_ && as_->take_tlas_handle_changed()) bindings_dirty_ = true;
+  if (bvh_ && bvh_->take_buffers_changed()) bindings_dirty_ = true;
   timer_.resolve();
   if (submitted_hashes_ > 0) frame_hashes_ = state_hash_->results(std::uint32_t(submitted_hashes_));
 }

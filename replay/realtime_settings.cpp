@@ -28,6 +28,7 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.normal_min_dot = static_cast<float>(p.number("restir_di.dissimilar_normal_min_dot"));
   s.balance_mis = p.text("restir_di.mis") == "balance";
   s.mis_visibility = p.flag("restir_di.mis_visibility");
+  s.mis_previous_scene = p.text("restir_di.temporal_mis_scene") == "previous_frame";
   s.target_base_color = p.text("restir_di.target") == "base_over_pi";
   s.temporal_permutation = p.flag("restir_di.temporal_permutation");
   s.temporal_fallback = p.text("restir_di.temporal_fallback") == "point";

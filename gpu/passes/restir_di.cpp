@@ -11,15 +11,17 @@ namespace {
 
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
-std::vector<DescriptorBinding> common_bindings() {
+std::vector<DescriptorBinding> common_bindings(const DiSettings& s) {
   std::vector<DescriptorBinding> b = scene_descriptor_bindings();
   for (std::uint32_t n : {BINDING_GBUFFER, BINDING_DI_RESERVOIRS_STORED, BINDING_DI_RESERVOIRS_MID, BINDING_DI_SURFACES})
     b.push_back({n, kStorage});
+  if (s.traces_previous_scene()) b.push_back(previous_scene_descriptor_binding());
   return b;
 }
 
-void bind_common(ComputePass& pass, const SceneResources& scene, const DiBuffers& b) {
+void bind_common(ComputePass& pass, const DiSettings& s, const SceneResources& scene, const DiBuffers& b) {
   pass.bind_scene(scene);
+  if (s.traces_previous_scene()) pass.bind_previous_scene(scene);
   pass.bind_buffer(BINDING_GBUFFER, *b.gbuffer);
   pass.bind_buffer(BINDING_DI_RESERVOIRS_STORED, *b.stored);
   pass.bind_buffer(BINDING_DI_RESERVOIRS_MID, *b.mid);
@@ -27,7 +29,7 @@ void bind_common(ComputePass& pass, const SceneResources& scene, const DiBuffers
 }
 
 ComputePass make_initial(Device& device, ShaderCompiler& compiler, const DiSettings& s) {
-  auto b = common_bindings();
+  auto b = common_bindings(s);
   for (std::uint32_t n : {BINDING_LIGHT_TILE_SAMPLES, BINDING_LIGHT_TILE_PACKED, BINDING_DI_LIGHT_TRANSLATION})
     b.push_back({n, kStorage});
   return ComputePass(device, "di_initial_temporal", compiler.compile_file(DiInitialTemporal::kShader, s.defines()).spirv,
@@ -35,7 +37,7 @@ ComputePass make_initial(Device& device, ShaderCompiler& compiler, const DiSetti
 }
 
 ComputePass make_spatial(Device& device, ShaderCompiler& compiler, const DiSettings& s) {
-  auto b = common_bindings();
+  auto b = common_bindings(s);
   for (std::uint32_t n : {BINDING_DI_OUTPUT, BINDING_DI_ACCUMULATION}) b.push_back({n, kStorage});
   return ComputePass(device, "di_spatial_shade", compiler.compile_file(DiSpatialShade::kShader, s.defines()).spirv,
                      std::move(b), sizeof(DiPushConstants));
@@ -47,7 +49,7 @@ DiInitialTemporal::DiInitialTemporal(Device& device, ShaderCompiler& compiler, c
     : settings_(settings), pass_(make_initial(device, compiler, settings)) {}
 
 void DiInitialTemporal::bind(const SceneResources& scene, const DiBuffers& b) {
-  bind_common(pass_, scene, b);
+  bind_common(pass_, settings_, scene, b);
   pass_.bind_buffer(BINDING_LIGHT_TILE_SAMPLES, *b.tile_samples);
   pass_.bind_buffer(BINDING_LIGHT_TILE_PACKED, *b.tile_packed);
   pass_.bind_buffer(BINDING_DI_LIGHT_TRANSLATION, *b.translation);
@@ -63,7 +65,7 @@ DiSpatialShade::DiSpatialShade(Device& device, ShaderCompiler& compiler, const D
     : settings_(settings), pass_(make_spatial(device, compiler, settings)) {}
 
 void DiSpatialShade::bind(const SceneResources& scene, const DiBuffers& b) {
-  bind_common(pass_, scene, b);
+  bind_common(pass_, settings_, scene, b);
   pass_.bind_buffer(BINDING_DI_OUTPUT, *b.output);
   pass_.bind_buffer(BINDING_DI_ACCUMULATION, *b.accumulation);
 }

@@ -34,6 +34,7 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"},
           {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"}};
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
+  if (traces_previous_scene()) d.push_back({"TRACE_PREVIOUS_SCENE", ""});
   if (show_background && background != glm::vec3(0.0f))
     d.push_back({"DI_BACKGROUND", fmt::format("vec3({},{},{})", f(background.x), f(background.y), f(background.z))});
   return d;

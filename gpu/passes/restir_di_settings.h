@@ -29,6 +29,12 @@ struct DiSettings {
   // targets of every merge (two more rays per merge), defensive balance MIS
   // in the spatial merge; replaces balance_mis's weights.
   bool mis_visibility = false;
+  // restir_di.temporal_mis_scene "previous_frame" (Bevy f755ea4a71 #25046):
+  // with mis_visibility, the temporal merge asks whether this frame's sample
+  // lit the history's surface in last frame's scene (the renderer keeps its
+  // TLAS; TRACE_PREVIOUS_SCENE); false ("current"): in this frame's.
+  bool mis_previous_scene = false;
+  bool traces_previous_scene() const { return mis_visibility && mis_previous_scene; }
   // true (restir_di.target = base_over_pi, Solari): the resampling target is
   // luminance(L·cos·base/π); false: base·(1 − metallic)/π (pure metals: no DI).
   bool target_base_color = true;

@@ -27,6 +27,11 @@ GI_CONST uint BINDING_DFG_LUT = 14u;          // uint[] packHalf2x16(A, B)
 // ComputePass swaps them in for BINDING_TLAS on a bvh Device.
 GI_CONST uint BINDING_BVH_NODES = 0u;         // BvhNode[] (core/shared/bvh_types.h), in place of the TLAS
 GI_CONST uint BINDING_BVH_TRIANGLES = 7u;     // BvhTriangle[]
+// Last frame's scene, for DI's temporal MIS visibility only
+// (TRACE_PREVIOUS_SCENE; restir_di.temporal_mis_scene previous_frame, Bevy
+// #25046): its TLAS, or on the bvh backend its BVH node array (the triangles
+// are shared: scenario events only append meshes).
+GI_CONST uint BINDING_PREVIOUS_SCENE = 15u;
 
 // Primary visibility / G-buffer.
 GI_CONST uint BINDING_VISIBILITY = 8u;        // uvec2[] per pixel: instance, primitive (VISIBILITY_MISS)

@@ -120,9 +120,17 @@ void main() {
           t.pc_xc = di_target_at(rc, d.position, d.ng, d.ns, d.diffuse);
           t.po_xc = di_target_at(rc, prev_position, prev_ng, prev_ng, s.diffuse.rgb);
 #if DI_MIS_VISIBILITY != 0
-          // Bevy main traces this against last frame's scene; here the
-          // current one (the same across geometry events, which keep history).
+          // Did this frame's sample light the history's surface? Bevy main
+          // since #25046 asks last frame's scene (TRACE_PREVIOUS_SCENE,
+          // restir_di.temporal_mis_scene previous_frame); before, this
+          // frame's: where an occluder just moved away the sample looks
+          // visible there too, the shadowed history keeps its weight and the
+          // old shadow lingers for frames (the shadow_lag check).
+#ifdef TRACE_PREVIOUS_SCENE
+          if (t.po_xc > 0.0 && !light_sample_visible_previous_scene(prev_position, prev_ng, rc)) t.po_xc = 0.0;
+#else
           if (t.po_xc > 0.0 && !light_sample_visible(prev_position, prev_ng, rc)) t.po_xc = 0.0;
+#endif
 #endif
         }
         ResolvedLightSample ro = di_resolve(temporal.light);

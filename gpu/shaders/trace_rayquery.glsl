@@ -26,3 +26,17 @@ bool trace_unoccluded(vec3 origin, vec3 dir, float tmax) {
   }
   return rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT;
 }
+
+#ifdef TRACE_PREVIOUS_SCENE
+layout(set = 0, binding = BINDING_PREVIOUS_SCENE) uniform accelerationStructureEXT previous_scene_tlas;
+
+// trace_unoccluded against last frame's scene.
+bool trace_unoccluded_previous_scene(vec3 origin, vec3 dir, float tmax) {
+  rayQueryEXT q;
+  rayQueryInitializeEXT(q, previous_scene_tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu,
+                        origin, 0.0, dir, tmax);
+  while (rayQueryProceedEXT(q)) {
+  }
+  return rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT;
+}
+#endif
