@@ -34,7 +34,8 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   s.temporal_fallback = p.text("restir_di.temporal_fallback") == "point";
   s.offscreen_own_pixel = p.text("restir_di.offscreen_reprojection") == "own_pixel";
   s.tile_per_workgroup = p.text("restir_di.tile_choice") == "workgroup";
-  s.visibility_final = p.text("restir_di.visibility") == "final";
+  s.visibility_final = p.text("restir_di.visibility") != "spatial_fed_forward";
+  s.visibility_final_stored = p.text("restir_di.visibility") == "final_stored";
   s.initial_visibility_fed_forward = p.text("restir_di.initial_visibility") == "fed_forward";
   s.shading_base_over_pi = p.text("restir_di.shading") == "base_over_pi";
   s.emissive_unexposed = p.text("restir_di.emissive_exposure") == "unexposed";

@@ -85,5 +85,21 @@ TEST(RealtimeDi, FedForwardSpatialVisibilityLeavesMoreErrorAtShadowEdgesThanTheF
   EXPECT_GT(e17, 1.5 * e18) << "edge-region relMSE: fed forward " << e17 << ", final ray " << e18;
 }
 
+TEST(RealtimeDi, FinalVisibilityStoredInReuseDarkensMoreThanThe017Order) {
+  // Bevy #21649 moved DI's shadow ray to the final sample and folded it into
+  // the stored W (restir_di.visibility final_stored); #22033 stopped storing
+  // it. In the moving-occluder scene the stored ray darkens more than 0.17's
+  // order (measured 2026-12-03: 0.625 against 0.717 and 0.9988), so the
+  // pre-#21649 state cannot be called the bug: the museum counts #21649 missed.
+  const DiRun stored = run("di_moving_occluder.json", "--set restir_di.visibility=final_stored", "vis_stored");
+  const DiRun fed = run("di_moving_occluder.json", "--set restir_di.visibility=spatial_fed_forward", "vis_fed17");
+  const DiRun final_ray = run("di_moving_occluder.json", "", "vis_final18");
+  EXPECT_EQ(stored.exit_code, 1) << stored.message;
+  EXPECT_EQ(fed.exit_code, 1) << fed.message;
+  EXPECT_EQ(final_ray.exit_code, 0) << final_ray.message;
+  EXPECT_LT(energy(stored), energy(fed) - 0.05) << stored.message << " vs " << fed.message;
+  EXPECT_LT(energy(fed), 0.8) << fed.message;
+}
+
 }  // namespace
 }  // namespace gi

@@ -33,6 +33,7 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"},
           {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"},
           {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"}};
+  if (visibility_final && visibility_final_stored) d.push_back({"DI_VISIBILITY_FINAL_STORED", "1"});
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
   if (traces_previous_scene()) d.push_back({"TRACE_PREVIOUS_SCENE", ""});
   if (show_background && background != glm::vec3(0.0f))

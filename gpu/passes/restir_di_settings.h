@@ -54,6 +54,10 @@ struct DiSettings {
   // workgroup, the same every frame; false: a random tile per pixel and frame.
   bool tile_per_workgroup = true;
   bool visibility_final = true;           // false: spatial ray fed forward (0.17)
+  // restir_di.visibility "final_stored" (Bevy f94997ca37 #21649 to
+  // f860ee784b #22033): the final ray zeroes the stored reservoir's W, which
+  // the next frame's temporal and spatial reuse read (needs visibility_final).
+  bool visibility_final_stored = false;
   // restir_di.emissive_exposure "unexposed" (0.17): Bevy multiplied DI by the
   // view's exposure and then added the emissive, so emitters were 1/exposure
   // too bright against the rest (light_tiles.exposure stands for the view's).

@@ -8,6 +8,8 @@
 //     sample's shadow ray for shading only (not fed forward).
 //   0 (0.17): trace a ray to the spatial sample before merging, fold it into
 //     that sample's W, store the result (fed forward); shade without a ray.
+//   DI_VISIBILITY_FINAL_STORED (Bevy #21649 to #22033): the final ray's
+//     result folded into the stored W (fed forward) and shading with it.
 // DI_MIS_VISIBILITY 1 (Bevy main): the cross targets p_c(x_o) and p_o(x_c)
 // carry the sample's visibility from the pixel that evaluates them (two rays)
 // and the merge uses defensive balance MIS.
@@ -102,6 +104,13 @@ void main() {
       MergeResult m = di_merge(canonical, other, t, true, rng_next_float(rng));
       canonical = m.merged;
     }
+#ifdef DI_VISIBILITY_FINAL_STORED
+    // Bevy between #21649 and #22033 (f94997ca37:realtime/restir_di.wgsl:77-82):
+    // the final ray zeroes W before the store, so next frame's reuse reads
+    // shadowed samples as worthless (the shading below sees the same W).
+    if (di_reservoir_valid(canonical) && !light_sample_visible(d.position, d.ng, di_resolve(canonical.light)))
+      canonical.unbiased_contribution_weight = 0.0;
+#endif
     stored_reservoirs[slot] = canonical;
 
 #if DI_EMISSIVE_UNEXPOSED != 0
