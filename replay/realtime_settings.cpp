@@ -122,6 +122,7 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.jacobian_rejection = p.flag("restir_gi.jacobian_rejection");
   s.jacobian_both = p.text("restir_gi.jacobian_rejection_directions") == "both";
   s.temporal_permutation = p.flag("restir_gi.temporal_permutation");
+  s.temporal_reuse = p.flag("restir_gi.temporal_reuse");
   s.temporal_fallback = choice<G::TemporalFallback>(p, "restir_gi.temporal_fallback",
                                                     {{"point", G::TemporalFallback::point},
                                                      {"retry", G::TemporalFallback::retry},

@@ -49,6 +49,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
+  if (!temporal_reuse) d.push_back({"GI_NO_TEMPORAL_REUSE", ""});
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
   return d;
 }

@@ -25,6 +25,9 @@ struct GiSettings {
   // threshold; "one" (0.17, 0.18): the other sample's only.
   bool jacobian_both = false;
   bool temporal_permutation = true;
+  // restir_gi.temporal_reuse false (harness-only, issue 17's GI noise
+  // breakdown): no temporal reuse at all; true is every release's.
+  bool temporal_reuse = true;
   // Instrumentation, compiled in only for a check that reads it
   // (temporal_acceptance): chain A's temporal reuse at edge pixels, counted
   // into GiStats.temporal_edge_pixels / temporal_edge_reused.

@@ -88,9 +88,15 @@ void main() {
     }
   }
 
-  // Temporal reuse.
+  // Temporal reuse (GI_NO_TEMPORAL_REUSE: none; restir_gi.temporal_reuse
+  // false, a harness-only switch for the GI noise breakdown of issue 17).
+#ifdef GI_NO_TEMPORAL_REUSE
+#define GI_HISTORY_VALID 0u
+#else
+#define GI_HISTORY_VALID push.history_valid
+#endif
   ivec2 q;
-  if (push.history_valid != 0u) {
+  if (GI_HISTORY_VALID != 0u) {
     if (temporal_source_pixel(pixel, d.motion, resolution, GI_OFFSCREEN_OWN_PIXEL != 0, q)) {
       GiReservoir temporal;
       GiSurface s;
