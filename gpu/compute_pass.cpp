@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <map>
 #include <utility>
 
@@ -17,6 +19,58 @@
 namespace gi::gpu {
 
 using namespace gi::shader;
+
+namespace {
+
+// GIHARNESS_TEST_SLOW_PASS=<pass>:<factor> (factor > 1): that pass's every
+// dispatch does `factor` times its work, a real slowdown for the tests of
+// the nightly's timing verdicts (reports/timing_verdict.h). The work is the
+// same dispatch again, after a barrier, and a fraction of its workgroups
+// for the rest: for a pass that only writes what it reads from elsewhere
+// (light_tiles) the results are unchanged; one that reads its own output
+// (a temporal pass, the cache's decay) computes other results.
+struct TestSlowdown {
+  std::string pass;
+  double factor = 1.0;
+};
+
+const TestSlowdown& test_slowdown() {
+  static const TestSlowdown slowdown = [] {
+    TestSlowdown s;
+    const char* env = std::getenv("GIHARNESS_TEST_SLOW_PASS");
+    const std::string text = env ? env : "";
+    if (text.empty()) return s;
+    const std::size_t colon = text.rfind(':');
+    char* end = nullptr;
+    const double factor = colon == std::string::npos ? 0.0 : std::strtod(text.c_str() + colon + 1, &end);
+    if (colon == 0 || colon == std::string::npos || end == text.c_str() + colon + 1 || *end != '\0' ||
+        !(factor >= 1.0 && factor <= 16.0))
+      throw InputError("GIHARNESS_TEST_SLOW_PASS", "",
+                       fmt::format("<pass>:<factor> with 1 <= factor <= 16, got \"{}\"", text));
+    s.pass = text.substr(0, colon);
+    s.factor = factor;
+    spdlog::warn("GIHARNESS_TEST_SLOW_PASS: every dispatch of {} does {}x its work", s.pass, s.factor);
+    return s;
+  }();
+  return slowdown;
+}
+
+// The extra work of a slowed pass: whole repeats, then the fraction as a
+// share of the largest grid dimension.
+void record_slowdown(VkCommandBuffer cmd, double factor, std::uint32_t gx, std::uint32_t gy, std::uint32_t gz) {
+  double extra = factor - 1.0;
+  for (; extra >= 1.0 - 1e-9; extra -= 1.0) {
+    compute_barrier(cmd);
+    vkCmdDispatch(cmd, gx, gy, gz);
+  }
+  if (extra <= 1e-9) return;
+  std::uint32_t* largest = gx >= gy && gx >= gz ? &gx : gy >= gz ? &gy : &gz;
+  *largest = std::max(1u, std::uint32_t(std::ceil(extra * double(*largest))));
+  compute_barrier(cmd);
+  vkCmdDispatch(cmd, gx, gy, gz);
+}
+
+}  // namespace
 
 std::vector<DescriptorBinding> scene_descriptor_bindings() {
   return {{BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},
@@ -43,6 +97,7 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
                          std::vector<DescriptorBinding> bindings, std::uint32_t push_constant_bytes)
     : device_(device.handle()), name_(std::move(name)), bindings_(std::move(bindings)),
       push_bytes_(push_constant_bytes) {
+  test_slowdown();  // a malformed GIHARNESS_TEST_SLOW_PASS is bad input before any recording
   if (device.backend() == TraceBackend::bvh) {
     const auto tlas = std::find_if(bindings_.begin(), bindings_.end(), [](const DescriptorBinding& b) {
       return b.binding == BINDING_TLAS && b.type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
@@ -222,6 +277,8 @@ void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t 
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   if (push_bytes_ && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
   vkCmdDispatch(cmd, gx, gy, gz);
+  const TestSlowdown& slow = test_slowdown();
+  if (slow.factor > 1.0 && slow.pass == name_) record_slowdown(cmd, slow.factor, gx, gy, gz);
 }
 
 void ComputePass::dispatch_indirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset,

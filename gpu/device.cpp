@@ -181,6 +181,16 @@ bool is_lavapipe(VkPhysicalDevice pd) {
   return std::strstr(p.deviceName, "llvmpipe") != nullptr;
 }
 
+const char* device_type_name(VkPhysicalDeviceType type) {
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete_gpu";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated_gpu";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual_gpu";
+    default: return "other";
+  }
+}
+
 bool choose_staged_buffers(VkPhysicalDeviceType type) {
   const char* env = std::getenv("GIHARNESS_BUFFER_MEMORY");
   const std::string forced = env ? env : "";
@@ -216,6 +226,7 @@ nlohmann::json DeviceInfo::to_json() const {
                         {"timestamp_period_ns", timestamp_period_ns},
                         {"device_index", device_index},
                         {"ray_query", ray_query},
+                        {"device_type", device_type},
                         {"backend", backend},
                         {"buffer_memory", buffer_memory}};
 }
@@ -309,6 +320,7 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     info_.ray_query = has_ray_query;
     info_.backend = backend_name(backend_);
     staged_buffers_ = choose_staged_buffers(props.properties.deviceType);
+    info_.device_type = device_type_name(props.properties.deviceType);
     info_.buffer_memory = staged_buffers_ ? "staged" : "mapped";
 
     // Features: bufferDeviceAddress -> accelerationStructure -> rayQuery (DESIGN §4).

@@ -44,6 +44,8 @@ struct DeviceInfo {
   double timestamp_period_ns = 0.0;
   int device_index = 0;
   bool ray_query = false;      // the device offers VK_KHR_ray_query + acceleration structures
+  // "cpu" (lavapipe), "discrete_gpu", "integrated_gpu", "virtual_gpu" or "other".
+  std::string device_type;
   std::string backend;         // the tracing backend this Device was created for
   // Where buffers live (gpu/buffer.h): "staged" (device-local memory, copies
   // through a host-cached staging buffer) or "mapped" (one host-visible

@@ -1,6 +1,7 @@
 #include "gpu/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -55,6 +56,10 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
   mesh_ranges_ = geometry.meshes;
   triangle_count_ = geometry.indices.size() / 3;
   const std::size_t pixels = pixel_count();
+  if (options_.timing_calibration) {
+    calibration_.emplace(device, compiler);
+    calibration_ms_ = std::nan("");
+  }
   if (options_.gbuffer) {
     visibility_ = Buffer(device, pixels * sizeof(glm::uvec2), kStorage, "visibility");
     depth_ = Buffer(device, pixels * sizeof(float), kStorage, "depth");
@@ -203,6 +208,7 @@ void Renderer::submit_frame(const FrameConstants& frame) {
   submitted_hashes_ = hash_ranges.size();
   device_.submit([&](VkCommandBuffer cmd) {
     timer_.begin_frame(cmd);
+    if (calibration_) calibration_->record(cmd, timer_);
     auto run = [&](const char* name, const auto& pass) {
       timer_.begin(cmd, name);
       pass.record(cmd, w, h);
@@ -255,6 +261,11 @@ void Renderer::finish_frame() {
   if (as_ && as_->take_tlas_handle_changed()) bindings_dirty_ = true;
   if (bvh_ && bvh_->take_buffers_changed()) bindings_dirty_ = true;
   timer_.resolve();
+  pass_timings_.clear();
+  for (const PassTiming& t : timer_.timings()) {
+    if (calibration_ && t.name == TimingCalibration::kTimerName) calibration_ms_ = t.ms;
+    else pass_timings_.push_back(t);
+  }
   if (submitted_hashes_ > 0) frame_hashes_ = state_hash_->results(std::uint32_t(submitted_hashes_));
 }
 

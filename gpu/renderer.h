@@ -33,6 +33,7 @@
 #include "gpu/passes/gi_pipeline.h"
 #include "gpu/passes/primary_visibility.h"
 #include "gpu/passes/reference_path_trace.h"
+#include "gpu/passes/timing_calibration.h"
 #include "gpu/passes/world_cache.h"
 #include "gpu/state_buffers.h"
 #include "gpu/timer.h"
@@ -53,6 +54,9 @@ struct RendererOptions {
   // The output and the frame record's measures made on the GPU each frame
   // (gpu/passes/frame_output.h; needs di or reference): what the frame loop reads.
   bool frame_output = false;
+  // The timing calibration kernel first in every frame (gpu/passes/timing_calibration.h):
+  // the run sets it on a CPU device, where pass times need it to compare.
+  bool timing_calibration = false;
 };
 
 class Renderer {
@@ -133,7 +137,10 @@ class Renderer {
   const std::vector<std::uint32_t>& cluster_table() const { return cluster_table_; }
   std::vector<float> depth() const;
 
-  const std::vector<PassTiming>& last_timings() const { return timer_.timings(); }
+  // The last frame's pass times (the calibration kernel left out), and the
+  // calibration kernel's own time (NaN when it is off).
+  const std::vector<PassTiming>& last_timings() const { return pass_timings_; }
+  double last_calibration_ms() const { return calibration_ms_; }
   // TLAS builds of either backend (ray-query TLAS or the BVH's CPU-built TLAS).
   std::uint32_t tlas_builds() const { return as_ ? as_->tlas_builds() : bvh_->tlas_builds(); }
   const RendererOptions& options() const { return options_; }
@@ -178,6 +185,9 @@ class Renderer {
   bool frame_in_flight_ = false;
   ShaderCompiler& compiler_;
   GpuTimer timer_;
+  std::optional<TimingCalibration> calibration_;
+  std::vector<PassTiming> pass_timings_;
+  double calibration_ms_ = 0.0;
   // Packed visibility IDs: per-mesh clusters, the table the passes read.
   std::vector<MeshRange> mesh_ranges_;
   std::size_t triangle_count_ = 0;

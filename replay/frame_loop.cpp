@@ -38,6 +38,9 @@ FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSet
 
 void FrameLoop::build_renderer() {
   renderer_.reset();  // one pipeline's buffers at a time
+  // On a CPU device every pass time is compared as a multiple of the
+  // calibration kernel's (reports/timing_verdict.h); a GPU's are compared in ms.
+  setup_.renderer_options.timing_calibration = device_.info().device_type == "cpu";
   renderer_ = std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, setup_.renderer_options);
   for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
   flat_ = flatten_instances(scene_, geometry_);
@@ -122,6 +125,7 @@ FrameLoop::Taken FrameLoop::take(std::uint32_t frame, std::chrono::steady_clock:
   t.window_start = window_start_;
   t.window_samples = window_samples_;
   t.timings = renderer_->last_timings();
+  t.calibration_ms = renderer_->last_calibration_ms();
   t.measures = renderer_->frame_output().measures();
   if (!setup_.realtime) t.nonfinite_samples = renderer_->reference_nonfinite_samples();
   if (setup_.gi) t.gi_stats = renderer_->gi().stats();
@@ -184,6 +188,7 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
                            {"nonfinite_pixels", data.nonfinite_pixels},
                            {"nonfinite_samples", t.nonfinite_samples},
                            {"pass_ms", timings}};
+  if (setup_.renderer_options.timing_calibration) record["calibration_ms"] = json_figure(t.calibration_ms);
   if (setup_.realtime) {
     record["signal_mean_luminance"] = {{"di", json_figure(t.measures.di_luminance)}};
     if (setup_.gi) {

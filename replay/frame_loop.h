@@ -61,6 +61,7 @@ class FrameLoop {
     std::uint32_t window_start = 0;
     std::uint64_t window_samples = 0;
     std::vector<gpu::PassTiming> timings;
+    double calibration_ms = 0.0;  // the calibration kernel's time (CPU devices)
     gpu::FrameMeasures measures;
     std::uint64_t nonfinite_samples = 0;
     std::optional<gpu::GiFrameStats> gi_stats;

@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "core/json_input.h"
 #include "reports/change.h"
+#include "reports/timing_verdict.h"
 
 namespace gi {
 
@@ -48,6 +49,9 @@ void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json
   doc["resolved"] = nlohmann::json::object();
   for (const char* key : {"resolution", "frames", "seed", "mode", "samples_per_frame", "profile", "overrides", "backend"})
     if (resolved.contains(key)) doc["resolved"][key] = resolved[key];
+  // Per-frame pass times for the timing verdicts (reports/timing_verdict.h).
+  const TimingSamples samples = timing_samples(s);
+  if (!samples.series.empty()) doc["timing_samples"] = samples.to_json();
   doc["final_image_hash"] = s.value("final_image_hash", "");
   if (s.contains("hashes")) doc["hashes"] = s["hashes"];
   const std::filesystem::path image = run_dir / s.value("final_image", kFinalImageFile);

@@ -37,6 +37,32 @@ std::string render(const Case& c) {
   return out + "    </testcase>\n";
 }
 
+// Speed apart from correctness (reports/timing_verdict.h): properties with
+// each judged series' ratio and interval; a failure only when the suite makes
+// timing fatal (--fail-on-timing), so a slow machine never reads as a bug.
+Case timing_case(const std::string& scenario, const nlohmann::json& timing, bool fatal) {
+  Case t{scenario, "timing", "", "", "", "", 0, {}};
+  const std::string verdict = timing.value("verdict", "not_compared");
+  t.properties.push_back({"timing_verdict", verdict});
+  t.properties.push_back({"timing_unit", timing.value("unit", "")});
+  if (verdict == "not_compared") t.skipped = "timing not compared: " + timing.value("reason", "");
+  for (const nlohmann::json& s : timing.value("series", nlohmann::json::array())) {
+    const std::string v = s.value("verdict", "");
+    if (v != "regressed" && v != "improved" && s.value("name", "") != "pipeline_total") continue;
+    const std::string text = fmt::format("{} {}: ratio {} interval {} ({} ms against {} ms)", s.value("name", "?"), v,
+                                         figure_text(s.value("ratio", nlohmann::json())),
+                                         s.value("interval", nlohmann::json::array()).dump(),
+                                         figure_text(s.value("measured_ms", nlohmann::json())),
+                                         figure_text(s.value("baseline_ms", nlohmann::json())));
+    t.properties.push_back({"timing/" + s.value("name", "?"), text});
+    if (v == "regressed" && fatal) {
+      if (t.failure.empty()) t.failure = "timing regressed (--fail-on-timing): " + text;
+      t.failure_text += text + "\n";
+    }
+  }
+  return t;
+}
+
 }  // namespace
 
 std::string xml_escape(const std::string& text) {
@@ -141,6 +167,7 @@ std::string junit_xml(const nlohmann::json& suite) {
       }
     }
     cases.push_back(b);
+    if (row.contains("timing")) cases.push_back(timing_case(scenario, row["timing"], suite.value("fail_on_timing", false)));
   }
   std::size_t failures = 0, errors = 0, skipped = 0;
   double total = 0;

@@ -13,6 +13,7 @@
 #include "core/png_preview.h"
 #include "reports/gnuplot.h"
 #include "reports/html_page.h"
+#include "reports/timing_report.h"
 
 namespace gi {
 namespace {
@@ -305,6 +306,9 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   }
   const std::size_t scatter_id = plots.size();
   plots.push_back(scatter);
+  const nlohmann::json history = suite.value("timing_history", nlohmann::json::array());
+  const std::size_t trend_id = plots.size();
+  if (!history.empty()) plots.push_back(timing_trend_plot(history, timing_history_entry(suite, "tonight")));
   const std::vector<PlotResult> drawn = render_plots(plots, out_dir / "plots");
 
   std::string body = "<h1>giharness nightly</h1>\n";
@@ -359,6 +363,18 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
                                   : html_table(kRegressionHeader, all_regressions, "regressions");
   body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error");
+  const nlohmann::json timing = suite.value("timing", nlohmann::json::object());
+  body += fmt::format("<h2>Timing against the baseline</h2>\n<p class=\"small\">{} scenarios regressed, {} improved, "
+                      "{} unchanged, {} not compared; {}</p>\n",
+                      html_figure(timing.value("regressed", 0)), html_figure(timing.value("improved", 0)),
+                      html_figure(timing.value("unchanged", 0)), html_figure(timing.value("not_compared", 0)),
+                      timing.value("fatal", false) ? "timing is fatal (--fail-on-timing: exit bit 4)"
+                                                   : "reported only: timing never fails this night");
+  const auto timing_rows = timing_overview_rows(suite);
+  body += timing_rows.empty() ? "<p>no pass outside its interval</p>\n" : html_table(kTimingOverviewHeader, timing_rows);
+  if (!history.empty())
+    body += fmt::format("<h3>Trend over the last {} nights and this one</h3>\n", history.size()) +
+            html_plot(drawn[trend_id], "timing trend");
 
   for (const Page& p : pages) {
     const std::string name = p.row.value("name", p.row.value("file", "?"));
@@ -378,6 +394,7 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
     const nlohmann::json deltas = p.row.value("regressions", nlohmann::json::array());
     if (!deltas.empty()) body += "<h3>Figures outside the baseline's tolerances</h3>\n" + html_table(kRegressionHeader, regression_rows(name, deltas));
     if (p.row.contains("change")) body += "<h3>Bits against the exact baseline</h3>\n" + change_section(out_dir, p.row["change"]);
+    if (p.row.contains("timing")) body += "<h3>Timing against the baseline</h3>\n" + timing_section(p.row["timing"]);
     body += "<h3>Per-frame curves</h3>\n";
     for (std::size_t i = p.first_plot; i < p.first_plot + p.plot_count; ++i) body += html_plot(drawn[i], plots[i].title) + "\n";
     const std::filesystem::path rel = std::filesystem::path(p.row["summary"].get<std::string>()).parent_path();

@@ -13,7 +13,6 @@
 namespace gi {
 namespace {
 
-Tolerance time_tol(double ratio, double margin) { return {ToleranceKind::time, ratio, margin, 0.0, 0.0}; }
 Tolerance worse_up(double rel, double abs) { return {ToleranceKind::higher_is_worse, 1.0, 0.0, rel, abs}; }
 Tolerance both_ways(double rel, double abs) { return {ToleranceKind::two_sided, 1.0, 0.0, rel, abs}; }
 Tolerance ignored() { return {ToleranceKind::ignore, 1.0, 0.0, 0.0, 0.0}; }
@@ -43,15 +42,16 @@ std::string Tolerance::describe() const {
   return "";
 }
 
-// Why these numbers: GPU timestamps on lavapipe on a shared 2-core machine
-// vary by tens of percent between runs, so times fail only beyond 1.5x plus
-// a quarter millisecond (tiny passes jitter by more than their own length).
-// Accuracy figures are bit-identical on one device and driver; the tolerances
+// Why these numbers: times are not compared here by default. They are the
+// timing verdict's (reports/timing_verdict.h): per-frame samples, calibrated
+// on lavapipe, a separate verdict that never fails a night alone unless asked.
+// A tolerances.json may still hold a "time" rule (ratio × baseline + margin)
+// for a figure it wants judged as correctness. Accuracy figures are bit-identical on one device and driver; the tolerances
 // leave room for another machine of the same class (a Mesa or LLVM update)
 // while catching a 5% energy loss or a 10% relMSE increase.
 const std::vector<ToleranceRule>& default_tolerance_rules() {
   static const std::vector<ToleranceRule> rules = {
-      {"timings/*", time_tol(1.5, 0.25)},
+      {"timings/*", ignored()},
       {"*/reference_seconds", ignored()},  // the Embree side, often a cache hit
       {"*nonfinite*", worse_up(0.0, 0.0)},
       {"*relmse*", worse_up(0.10, 1e-6)},

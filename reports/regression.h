@@ -1,9 +1,11 @@
 // Comparing a scenario's figures with its baseline (DESIGN §10): per-metric
 // tolerances chosen by name pattern, first match wins.
 //
-// - time figures (timings/…) are ratios with a noise margin: a regression is
-//   measured > ratio × baseline + margin_ms; a run that fast in the other
-//   direction is reported as improved, never failed;
+// - time figures (timings/…) are not compared by default: the timing verdict
+//   does that from per-frame samples (reports/timing_verdict.h). A rule of
+//   kind "time" in tolerances.json compares one as a ratio with a noise
+//   margin: a regression is measured > ratio × baseline + margin_ms; a run
+//   that fast in the other direction is reported as improved, never failed;
 // - error figures (relMSE, noise, errors, non-finite counts) only regress
 //   upwards: measured > baseline + abs + rel × |baseline|;
 // - level figures (luminance, energy ratio, anything else) regress both

@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "reports/junit.h"
 #include "reports/nightly_report.h"
+#include "reports/timing_report.h"
 
 namespace gi {
 
@@ -15,10 +16,14 @@ int suite_exit_code(const nlohmann::json& suite) {
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
     worst = std::max(worst, row.value("exit_code", 0));
   if (suite.value("interrupted", false)) worst = 3;
+  // Timing is its own bit, and only when asked for (reports/timing_report.h).
+  if (suite.value("fail_on_timing", false) && !timing_tally(suite)["scenarios_regressed"].empty())
+    worst |= kTimingExitBit;
   return worst;
 }
 
 int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, const std::filesystem::path& junit) {
+  suite["timing"] = timing_tally(suite);
   const int code = suite_exit_code(suite);
   suite["exit_code"] = code;
   // Change detection's tally (reports/change.h), largest difference first in the report.
@@ -37,9 +42,11 @@ int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, co
     suite["bugs"] = {{"caught", caught}, {"missed", missed}, {"catch_rate", double(caught) / double(caught + missed)}};
   else
     suite.erase("bugs");
+  const int correctness = code & ~kTimingExitBit;
   suite["verdict"] = suite.value("interrupted", false) ? "interrupted"
-                     : code == 0                       ? "pass"
-                     : code == 1                       ? "fail"
+                     : code == kTimingExitBit          ? "timing_regressed"
+                     : correctness == 0                ? "pass"
+                     : correctness == 1                ? "fail"
                                                        : "error";
   const std::filesystem::path junit_path = junit.empty() ? out_dir / "junit.xml" : junit;
   suite["junit"] = junit_path.string();

@@ -21,8 +21,20 @@ const FigureDelta* find(const BaselineComparison& c, const std::string& metric) 
   return nullptr;
 }
 
+// Times are the timing verdict's (reports/timing_verdict.h): the default
+// rules leave them out of the correctness comparison entirely.
+TEST(ReportRegression, TimesAreNotCorrectnessByDefault) {
+  const ScenarioFigures base = figures({{"timings/total_median_ms", 10.0}, {"timings/passes/a/median_ms", 0.1}});
+  const BaselineComparison c =
+      compare_to_baseline(base, figures({{"timings/total_median_ms", 40.0}}), default_tolerance_rules());
+  EXPECT_EQ(c.compared, 0u);
+  EXPECT_TRUE(c.deltas.empty());
+}
+
+// A "time" rule (as a tolerances.json may give) still judges one as a ratio.
 TEST(ReportRegression, TimeIsARatioWithANoiseMargin) {
-  const auto& rules = default_tolerance_rules();
+  std::vector<ToleranceRule> rules = {{"timings/*", {ToleranceKind::time, 1.5, 0.25, 0.0, 0.0}}};
+  rules.insert(rules.end(), default_tolerance_rules().begin(), default_tolerance_rules().end());
   const ScenarioFigures base = figures({{"timings/total_mean_ms", 10.0}, {"timings/passes/a/mean_ms", 0.1}});
   // 1.4x and a tiny pass at 3x (inside the 0.25 ms margin): no regression.
   EXPECT_EQ(compare_to_baseline(base, figures({{"timings/total_mean_ms", 14.0}, {"timings/passes/a/mean_ms", 0.3}}), rules)

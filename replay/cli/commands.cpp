@@ -64,6 +64,13 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
   nightly_->add_flag("--fail-on-change", nightly_options_.fail_on_change,
                      "fail (exit 1) a scenario whose image or buffer hashes differ from its exact baseline");
+  nightly_->add_flag("--fail-on-timing", nightly_options_.fail_on_timing,
+                     "a timing regression sets exit bit 4 (exit 4, or 5 with a failed check); without it timing only reports");
+  nightly_->add_option("--history", nightly_options_.history_dir,
+                       "folder of past nights' timing summaries: this night's is added, the report draws the trend");
+  nightly_->add_option("--history-nights", nightly_options_.history_nights, "nights the trend shows")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   nightly_->add_option("--image-budget-mb", nightly_options_.image_budget_mb,
                        "with --update-baseline: the largest baseline images are dropped above this total")
       ->capture_default_str()
@@ -75,6 +82,31 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--memory-limit-mb", nightly_options_.memory_limit_mb,
                        "address-space limit of each scenario's process (off by default)")
       ->check(CLI::PositiveNumber);
+  // Slurm (replay/cli/nightly_slurm.cpp): the --slurm-* flags need --slurm N.
+  NightlySlurmOptions& so = nightly_options_.slurm;
+  CLI::Option* slurm = nightly_->add_option("--slurm", so.tasks,
+                                            "submit the suite as a Slurm job array of N shards and a merge job "
+                                            "after it (scripts in <out>/slurm/)")
+                           ->check(CLI::PositiveNumber);
+  nightly_->add_option("--slurm-partition", so.partition, "sbatch --partition")->needs(slurm);
+  nightly_->add_option("--slurm-time", so.time_limit, "time limit per task, e.g. 2:00:00")->needs(slurm);
+  nightly_->add_option("--slurm-cpus-per-task", so.cpus_per_task, "CPUs per task (and its LP_NUM_THREADS)")
+      ->check(CLI::PositiveNumber)
+      ->needs(slurm);
+  nightly_->add_option("--slurm-gres", so.gres, "generic resources per task, e.g. gpu:1")->needs(slurm);
+  nightly_->add_option("--slurm-sbatch-arg", so.sbatch_args,
+                       "one more sbatch option for both jobs, written --slurm-sbatch-arg=--account=X (repeatable)")
+      ->needs(slurm);
+  nightly_->add_option("--slurm-warn-seconds", so.warn_seconds,
+                       "seconds before the time limit at which a task stops after its scenario and requeues itself "
+                       "(0: never)")
+      ->capture_default_str()
+      ->needs(slurm);
+  nightly_->add_option("--slurm-max-requeues", so.max_requeues, "self-requeues per task after running out of time")
+      ->capture_default_str()
+      ->needs(slurm);
+  nightly_->add_flag("--slurm-dry-run", so.dry_run, "write the job scripts and print the sbatch commands; submit nothing")
+      ->needs(slurm);
 
   // One scenario of a nightly, in the process the nightly starts for it (hidden).
   nightly_scenario_ = app.add_subcommand("nightly-scenario", "")->group("");
@@ -97,6 +129,11 @@ void Commands::add_to(CLI::App& app) {
   merge_->add_option("inputs", merge_options_.inputs, "shard out directories")->required();
   merge_->add_option("--out", merge_options_.out_dir, "output directory")->capture_default_str();
   merge_->add_option("--junit", merge_options_.junit, "JUnit XML file (default <out>/junit.xml)");
+  merge_->add_option("--history", merge_options_.history_dir,
+                     "folder of past nights' timing summaries: the merged night's is added, the report draws the trend");
+  merge_->add_option("--history-nights", merge_options_.history_nights, "nights the trend shows")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 
   sweep_ = app.add_subcommand("sweep", "vary parameters and report error against ms/frame, with Embree at equal time");
   sweep_->add_option("scenario", sweep_options_.scenario, "scenario JSON file")->required();

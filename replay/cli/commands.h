@@ -23,6 +23,20 @@ struct ReferenceCommandOptions {
   std::filesystem::path out_dir = "out/reference";
 };
 
+// `nightly --slurm N` (replay/cli/nightly_slurm.cpp): the suite as a Slurm job
+// array of N shards, then a merge job; 0 runs the nightly here.
+struct NightlySlurmOptions {
+  int tasks = 0;
+  std::string partition;
+  std::string time_limit;            // per task, Slurm's format
+  std::optional<int> cpus_per_task;  // also LP_NUM_THREADS of the task
+  std::string gres;                  // e.g. gpu:1
+  std::vector<std::string> sbatch_args;
+  int warn_seconds = 300;  // before the time limit: stop after the scenario, requeue
+  int max_requeues = 3;
+  bool dry_run = false;    // write the scripts, print the sbatch commands, submit nothing
+};
+
 struct NightlyOptions {
   std::filesystem::path suite = "scenarios";
   std::filesystem::path out_dir = "out/nightly";
@@ -33,9 +47,13 @@ struct NightlyOptions {
   bool resume = false;            // keep completed scenarios of <out>/summary.json
   bool update_baseline = false;   // write this run's figures as the baseline
   bool fail_on_change = false;    // a scenario whose bits changed against its exact baseline fails (exit 1)
+  bool fail_on_timing = false;    // a timing regression sets exit bit 4 (reports/timing_report.h); else it only reports
+  std::filesystem::path history_dir;  // keep this night's timing summary there and draw the trend of the last nights
+  std::size_t history_nights = 14;
   double image_budget_mb = kDefaultImageBudgetMb;  // --update-baseline: the device class's baseline images stay within this
   double scenario_timeout = 3600.0;              // s of wall time per scenario, unless it sets timeout_seconds
   std::optional<std::uint64_t> memory_limit_mb;  // address-space limit of each scenario's process
+  NightlySlurmOptions slurm;
 };
 
 // The hidden `giharness nightly-scenario`: one scenario of a nightly, run in
@@ -58,6 +76,8 @@ struct MergeOptions {
   std::vector<std::filesystem::path> inputs;  // shard out dirs
   std::filesystem::path out_dir = "out/nightly";
   std::filesystem::path junit;
+  std::filesystem::path history_dir;  // as nightly --history: the merged night is the history's entry
+  std::size_t history_nights = 14;
 };
 
 struct SweepOptions {
@@ -101,6 +121,7 @@ int run_schema_command(const SchemaOptions& options);
 int run_reference_command(const ReferenceCommandOptions& options);
 int run_clusters_command(const ClustersCommandOptions& options);  // replay/cli/clusters_command.cpp
 int run_nightly(const NightlyOptions& options);
+int submit_slurm_nightly(const NightlyOptions& options);  // replay/cli/nightly_slurm.cpp
 int list_devices_command();
 
 class Commands {

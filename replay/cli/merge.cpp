@@ -13,6 +13,7 @@
 #include "replay/cli/commands.h"
 #include "reports/suite_report.h"
 #include "reports/summary.h"
+#include "reports/timing_report.h"
 
 namespace gi {
 namespace {
@@ -34,6 +35,7 @@ nlohmann::json read_suite(const std::filesystem::path& dir) {
 }  // namespace
 
 int run_merge(const MergeOptions& o) {
+  const std::string started_utc = utc_timestamp();
   nlohmann::json merged = {{"schema_version", 1}, {"build", build_info()}, {"scenarios", nlohmann::json::array()},
                            {"merged_from", nlohmann::json::array()}};
   std::set<std::string> seen;
@@ -41,7 +43,8 @@ int run_merge(const MergeOptions& o) {
   std::filesystem::create_directories(o.out_dir);
   for (const std::filesystem::path& dir : o.inputs) {
     const nlohmann::json suite = read_suite(dir);
-    for (const char* key : {"suite", "device", "device_class", "baseline_dir", "baseline_status"})
+    for (const char* key : {"suite", "device", "device_class", "baseline_dir", "baseline_status", "fail_on_change",
+                            "fail_on_timing"})
       if (!merged.contains(key) && suite.contains(key)) merged[key] = suite[key];
     if (suite.contains("device_class") && merged["device_class"] != suite["device_class"])
       spdlog::warn("merge: {} ran on device class {}, the first shard on {}: timings are not comparable",
@@ -69,7 +72,9 @@ int run_merge(const MergeOptions& o) {
   std::sort(merged["scenarios"].begin(), merged["scenarios"].end(),
             [](const nlohmann::json& a, const nlohmann::json& b) { return a.value("file", "") < b.value("file", ""); });
   merged["wall_seconds"] = wall;  // machine time of all shards together
+  attach_timing_history(merged, o.history_dir, o.history_nights);
   const int code = finish_suite(o.out_dir, merged, o.junit);
+  record_timing_history(merged, o.history_dir, started_utc);
   spdlog::info("merged {} shards, {} scenarios: {} (exit {}); report {}", o.inputs.size(), merged["scenarios"].size(),
                merged["verdict"].get<std::string>(), code, (o.out_dir / "report.html").string());
   return code;

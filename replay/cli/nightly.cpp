@@ -1,7 +1,8 @@
 // `giharness nightly` (DESIGN §10): every scenario of a suite (or of one
 // shard of it), each compared with its baseline; summary.json per scenario
 // and for the suite, JUnit XML and the HTML report. Exit 1 on a failed check
-// or a regression.
+// or a regression; timing has a verdict of its own (reports/timing_verdict.h)
+// that sets exit bit 4 only under --fail-on-timing.
 //
 // Isolation: each scenario runs in a child process of this binary
 // (`giharness nightly-scenario`, hidden), with a wall-time limit and an
@@ -39,12 +40,15 @@
 #include "reports/json_figures.h"
 #include "reports/regression.h"
 #include "reports/suite_report.h"
+#include "reports/timing_report.h"
+#include "reports/timing_verdict.h"
 #include "reports/summary.h"
 
 namespace gi {
 namespace {
 
 std::atomic<int> g_stop_signal{0};
+
 
 extern "C" void on_stop_signal(int sig) {
   g_stop_signal.store(sig);
@@ -248,6 +252,13 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
     row["regressions"] = nlohmann::json::array();
     return;
   }
+  // Speed, apart from correctness: its own verdict, never the row's
+  // (reports/timing_verdict.h); fatal only through the suite's exit bit.
+  const TimingSamples measured = timing_samples(summary);
+  const TimingSamples base = doc->contains("timing_samples")
+                                 ? TimingSamples::from_json((*doc)["timing_samples"], baseline_file(class_dir, name).string())
+                                 : TimingSamples{};
+  if (!measured.series.empty() || !base.series.empty()) row["timing"] = compare_timings(base, measured).to_json();
   const ScenarioFigures baseline = baseline_figures(*doc, baseline_file(class_dir, name));
   const BaselineComparison cmp = compare_to_baseline(baseline, extract_figures(summary), load_tolerance_rules(class_dir));
   row["baseline_status"] = "compared";
@@ -286,6 +297,7 @@ std::string progress_line(std::size_t k, std::size_t total, const nlohmann::json
 }  // namespace
 
 int run_nightly(const NightlyOptions& o) {
+  if (o.slurm.tasks > 0) return submit_slurm_nightly(o);  // the shards run as Slurm jobs, not here
   std::vector<std::filesystem::path> files = suite_files(o.suite);
   nlohmann::json shard_info;
   if (!o.shard.empty()) {
@@ -315,6 +327,7 @@ int run_nightly(const NightlyOptions& o) {
         done[row.value("file", "")] = row;
 
   const auto start = std::chrono::steady_clock::now();
+  const std::string started_utc = utc_timestamp();
   suite = {{"schema_version", 1},
            {"suite", o.suite.string()},
            {"build", build_info()},
@@ -396,7 +409,17 @@ int run_nightly(const NightlyOptions& o) {
       spdlog::warn("baseline image of {} dropped (over the budget): its changes show without relMSE or heat map", name);
   }
   suite["fail_on_change"] = o.fail_on_change;
+  suite["fail_on_timing"] = o.fail_on_timing;
+  attach_timing_history(suite, o.history_dir, o.history_nights);
   const int code = finish_suite(o.out_dir, suite, o.junit);
+  record_timing_history(suite, o.history_dir, started_utc);
+  for (const nlohmann::json& row : suite["scenarios"])
+    for (const nlohmann::json& t : row.value("timing", nlohmann::json::object()).value("series", nlohmann::json::array()))
+      if (t.value("verdict", "") == "regressed")
+        spdlog::log(o.fail_on_timing ? spdlog::level::err : spdlog::level::warn,
+                    "timing regressed: {} {}: {} ms against {} ms, ratio {} (interval {})", row.value("name", "?"),
+                    t.value("name", "?"), t["measured_ms"].dump(), t["baseline_ms"].dump(), t["ratio"].dump(),
+                    t["interval"].dump());
   for (const nlohmann::json& row : suite["scenarios"])
     if (row.contains("change") && row["change"].value("status", "") == "changed")
       spdlog::log(o.fail_on_change ? spdlog::level::err : spdlog::level::warn,
@@ -424,6 +447,10 @@ int run_nightly(const NightlyOptions& o) {
   if (suite["baseline_status"] != "found")
     spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
                  "update --from {}`)", class_dir.string(), o.out_dir.string());
+  const nlohmann::json& timing = suite["timing"];
+  spdlog::info("timing: {} scenarios regressed, {} improved, {} unchanged, {} not compared{}",
+               timing["regressed"].get<int>(), timing["improved"].get<int>(), timing["unchanged"].get<int>(),
+               timing["not_compared"].get<int>(), o.fail_on_timing ? " (--fail-on-timing: exit bit 4)" : " (reported only)");
   spdlog::info("suite {}: exit {}, {} regressions; {} unchanged, {} changed, {} without an exact baseline; report {}; "
                "junit {}",
                suite["verdict"].get<std::string>(), code, regressions, changes["unchanged"].get<int>(),

@@ -1,0 +1,240 @@
+#include "reports/timing_verdict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "reports/json_figures.h"
+#include "reports/summary.h"
+
+namespace gi {
+namespace {
+
+// The passes that observe the pipeline rather than make its image: judged as
+// passes, left out of the pipeline's total (as replay/run_summary.cpp does).
+bool observation_pass(const std::string& name) { return name == "frame_output" || name == "state_hash"; }
+
+double median_of(std::vector<double> v) { return percentile(std::move(v), 0.5); }
+
+// FNV-1a: a seed per series that is the same on every platform (std::hash is not).
+std::uint64_t seed_of(const std::string& name) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+// One moving-block resample's median: blocks of `block` consecutive samples
+// (wrapping at the end) from uniformly drawn starts, until n are drawn.
+double resampled_median(const std::vector<double>& x, std::uint32_t block, std::mt19937_64& rng,
+                        std::vector<double>& scratch) {
+  const std::size_t n = x.size();
+  scratch.clear();
+  while (scratch.size() < n) {
+    const std::size_t start = rng() % n;  // mt19937_64's output is specified; the modulo bias is 1e-17
+    for (std::uint32_t k = 0; k < block && scratch.size() < n; ++k) scratch.push_back(x[(start + k) % n]);
+  }
+  const std::size_t mid = n / 2;
+  std::nth_element(scratch.begin(), scratch.begin() + mid, scratch.end());
+  if (n % 2 == 1) return scratch[mid];
+  const double upper = scratch[mid];
+  return 0.5 * (upper + *std::max_element(scratch.begin(), scratch.begin() + mid));
+}
+
+}  // namespace
+
+nlohmann::json TimingSamples::to_json() const {
+  nlohmann::json s = nlohmann::json::object();
+  for (const auto& [name, v] : series) {
+    nlohmann::json a = nlohmann::json::array();
+    // Six significant digits: the samples vary by percents, and a baseline
+    // of 40 scenarios stays small.
+    for (double x : v) a.push_back(std::stod(fmt::format("{:.6g}", x)));
+    s[name] = a;
+  }
+  return {{"unit", unit}, {"calibration_ms", json_figure(calibration_ms)}, {"series", s}};
+}
+
+TimingSamples TimingSamples::from_json(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_object() || !j.contains("unit") || !j["unit"].is_string() || !j.contains("series") ||
+      !j["series"].is_object())
+    throw InputError(file, "/timing_samples", "an object with string \"unit\" and object \"series\"");
+  TimingSamples t;
+  t.unit = j["unit"];
+  if (t.unit != "ms" && t.unit != "calibration")
+    throw InputError(file, "/timing_samples/unit", "\"ms\" or \"calibration\"");
+  if (j.contains("calibration_ms") && j["calibration_ms"].is_number()) t.calibration_ms = j["calibration_ms"];
+  for (const auto& [name, a] : j["series"].items()) {
+    if (!a.is_array()) throw InputError(file, "/timing_samples/series/" + name, "an array of numbers");
+    std::vector<double>& v = t.series[name];
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!a[i].is_number() || !std::isfinite(a[i].get<double>()) || a[i].get<double>() < 0)
+        throw InputError(file, "/timing_samples/series/" + name + "/" + std::to_string(i), "a finite number >= 0");
+      v.push_back(a[i]);
+    }
+  }
+  return t;
+}
+
+TimingSamples timing_samples(const nlohmann::json& s) {
+  TimingSamples out;
+  const nlohmann::json frames = s.value("frames", nlohmann::json::array());
+  // Frame 0 compiles pipelines inside its timestamps on lavapipe.
+  std::vector<const nlohmann::json*> kept;
+  for (const nlohmann::json& f : frames)
+    if (f.is_object() && f.value("frame", 0u) > 0 && f.contains("pass_ms") && f["pass_ms"].is_object()) kept.push_back(&f);
+  if (kept.empty()) return out;
+
+  std::vector<double> calibration;
+  for (const nlohmann::json* f : kept) {
+    const nlohmann::json c = f->value("calibration_ms", nlohmann::json());
+    if (c.is_number() && c.get<double>() > 0) calibration.push_back(c);
+  }
+  const bool calibrated = calibration.size() == kept.size();
+  out.unit = calibrated ? "calibration" : "ms";
+  out.calibration_ms = calibrated ? median_of(calibration) : 0.0;
+
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    double scale = 1.0;
+    if (calibrated) {
+      const std::size_t half = kCalibrationWindow / 2;
+      const std::size_t lo = i >= half ? i - half : 0, hi = std::min(calibration.size(), i + half + 1);
+      scale = 1.0 / median_of(std::vector<double>(calibration.begin() + lo, calibration.begin() + hi));
+    }
+    double total = 0.0;
+    bool any = false;
+    for (const auto& [name, ms] : (*kept[i])["pass_ms"].items()) {
+      if (!ms.is_number()) continue;
+      // The state hash runs on the last frame (and hash-log frames) only:
+      // a series of one or two frames says nothing about speed.
+      if (name == "state_hash") continue;
+      out.series[name].push_back(ms.get<double>() * scale);
+      if (!observation_pass(name)) {
+        total += ms.get<double>();
+        any = true;
+      }
+    }
+    if (any) out.series[kPipelineTotal].push_back(total * scale);
+  }
+  return out;
+}
+
+RatioInterval median_ratio_interval(const std::vector<double>& baseline, const std::vector<double>& measured,
+                                    const TimingPolicy& policy, std::uint64_t seed) {
+  RatioInterval r;
+  const double b = median_of(baseline), m = median_of(measured);
+  r.ratio = b > 0 ? m / b : 0.0;
+  std::mt19937_64 rng(seed);
+  std::vector<double> ratios, scratch;
+  ratios.reserve(policy.resamples);
+  for (std::uint32_t k = 0; k < policy.resamples; ++k) {
+    const double bb = resampled_median(baseline, policy.block, rng, scratch);
+    const double mm = resampled_median(measured, policy.block, rng, scratch);
+    ratios.push_back(bb > 0 ? mm / bb : 0.0);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const std::size_t lo = std::size_t(std::floor(policy.alpha * double(ratios.size())));
+  const std::size_t hi = std::min(ratios.size() - 1, ratios.size() - 1 - lo);
+  r.low = ratios[lo];
+  r.high = ratios[hi];
+  return r;
+}
+
+nlohmann::json SeriesVerdict::to_json() const {
+  return {{"name", name},
+          {"verdict", verdict},
+          {"baseline_samples", baseline_samples},
+          {"measured_samples", measured_samples},
+          {"baseline_median", json_figure(baseline_median)},
+          {"measured_median", json_figure(measured_median)},
+          {"baseline_ms", json_figure(baseline_ms)},
+          {"measured_ms", json_figure(measured_ms)},
+          {"ratio", json_figure(ratio)},
+          {"interval", {json_figure(low), json_figure(high)}}};
+}
+
+std::size_t TimingComparison::regressions() const {
+  return std::size_t(std::count_if(series.begin(), series.end(), [](const SeriesVerdict& s) { return s.verdict == "regressed"; }));
+}
+
+nlohmann::json TimingComparison::to_json() const {
+  nlohmann::json j = {{"verdict", verdict}, {"unit", unit}, {"interval_coverage", json_figure(interval)},
+                      {"min_ratio", json_figure(min_ratio)}, {"regressions", regressions()},
+                      {"series", nlohmann::json::array()}};
+  if (!reason.empty()) j["reason"] = reason;
+  for (const SeriesVerdict& s : series) j["series"].push_back(s.to_json());
+  return j;
+}
+
+TimingComparison compare_timings(const TimingSamples& base, const TimingSamples& run, const TimingPolicy& policy) {
+  TimingComparison out;
+  out.unit = run.unit;
+  out.interval = 1.0 - 2.0 * policy.alpha;
+  out.min_ratio = policy.min_ratio;
+  if (base.series.empty() || run.series.empty()) {
+    out.reason = base.series.empty() ? "the baseline has no timing samples" : "the run kept no timed frames";
+    return out;
+  }
+  if (base.unit != run.unit) {
+    out.reason = "the baseline's samples are in " + base.unit + ", the run's in " + run.unit;
+    return out;
+  }
+  // A difference in the unit, stated in ms at each side's own calibration.
+  auto to_ms = [](const TimingSamples& t, double v) { return t.unit == "calibration" ? v * t.calibration_ms : v; };
+  bool regressed = false, improved = false;
+  for (const auto& [name, b] : base.series) {
+    SeriesVerdict v;
+    v.name = name;
+    v.baseline_samples = b.size();
+    v.baseline_median = median_of(b);
+    v.baseline_ms = to_ms(base, v.baseline_median);
+    const auto it = run.series.find(name);
+    if (it == run.series.end()) {
+      v.verdict = "missing";
+      out.series.push_back(v);
+      continue;
+    }
+    const std::vector<double>& m = it->second;
+    v.measured_samples = m.size();
+    v.measured_median = median_of(m);
+    v.measured_ms = to_ms(run, v.measured_median);
+    if (b.size() < policy.min_samples || m.size() < policy.min_samples || v.baseline_median <= 0) {
+      v.verdict = "too_few_samples";
+      v.ratio = v.baseline_median > 0 ? v.measured_median / v.baseline_median : 0.0;
+      out.series.push_back(v);
+      continue;
+    }
+    const RatioInterval r = median_ratio_interval(b, m, policy, seed_of(name));
+    v.ratio = r.ratio;
+    v.low = r.low;
+    v.high = r.high;
+    // The ms difference at the run's own speed: what this machine lost now.
+    const double diff_ms = std::fabs(to_ms(run, v.measured_median - v.baseline_median));
+    if (r.low > policy.min_ratio && diff_ms >= policy.min_abs_ms) v.verdict = "regressed";
+    else if (r.high < 1.0 / policy.min_ratio && diff_ms >= policy.min_abs_ms) v.verdict = "improved";
+    else v.verdict = "unchanged";
+    regressed |= v.verdict == "regressed";
+    improved |= v.verdict == "improved";
+    out.series.push_back(v);
+  }
+  for (const auto& [name, m] : run.series)
+    if (!base.series.count(name)) {
+      SeriesVerdict v;
+      v.name = name;
+      v.verdict = "new";
+      v.measured_samples = m.size();
+      v.measured_median = median_of(m);
+      v.measured_ms = to_ms(run, v.measured_median);
+      out.series.push_back(v);
+    }
+  const bool judged = std::any_of(out.series.begin(), out.series.end(), [](const SeriesVerdict& v) {
+    return v.verdict == "unchanged" || v.verdict == "regressed" || v.verdict == "improved";
+  });
+  out.verdict = regressed ? "regressed" : improved ? "improved" : judged ? "unchanged" : "not_compared";
+  if (!judged) out.reason = fmt::format("no series with {} timed frames on both sides", policy.min_samples);
+  return out;
+}
+
+}  // namespace gi

@@ -1,0 +1,104 @@
+// Timing verdicts (issue 20): is a pass slower than in its baseline, judged
+// from per-frame samples with a stated false-alarm rate, separately from the
+// correctness verdicts (reports/regression.h) so that a slow machine never
+// hides a failed check and never fails a night on its own unless asked.
+//
+// Samples. Each frame record of a scenario's summary.json has every pass's
+// GPU time (`pass_ms`). On a CPU device (lavapipe) the frame also timed the
+// calibration kernel (gpu/passes/timing_calibration.h) just before its
+// passes; a pass's sample is then its time over the calibration time of the
+// frames around it (the median over a window of kCalibrationWindow frames),
+// a number that stays put when the machine is 2x faster, or loaded by a
+// build, for the whole run or for a stretch of it. On a GPU samples stay ms.
+// The first frame is left out: lavapipe compiles a pipeline at its first
+// dispatch, inside the timestamps.
+//
+// Test. For each pass (and the pipeline's per-frame total), the statistic is
+// the ratio of medians, run over baseline. Its interval comes from a moving
+// block bootstrap of both sample sets (frames are correlated, so blocks of
+// frames are resampled, not single frames), with a fixed seed per series, so
+// the same inputs give the same verdict. A pass regressed when the lower end
+// of the interval is above min_ratio AND it is at least min_abs_ms slower:
+// under a true slowdown of exactly min_ratio, the chance of a flag is about
+// alpha (one-sided), and an unchanged pass, whose ratio is near 1, is far
+// below it. The minimum effect size matters as much as alpha: between-run
+// variation that the calibration does not remove is not in the bootstrap's
+// view, so a small, real-looking shift is never enough.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace gi {
+
+inline constexpr std::size_t kCalibrationWindow = 9;  // frames: the one judged and four either side
+inline constexpr const char* kPipelineTotal = "pipeline_total";
+
+struct TimingSamples {
+  // "calibration" (multiples of the calibration kernel's time) or "ms".
+  std::string unit = "ms";
+  // The run's median calibration time, to state a calibrated difference in
+  // ms (NaN-free: 0 when the unit is ms).
+  double calibration_ms = 0.0;
+  // Per series (a pass, or kPipelineTotal: the frame's pass sum without the
+  // observation passes), one sample per kept frame.
+  std::map<std::string, std::vector<double>> series;
+
+  nlohmann::json to_json() const;
+  // InputError naming `file` and the JSON path when malformed.
+  static TimingSamples from_json(const nlohmann::json& j, const std::string& file);
+};
+
+// From a scenario summary.json's frame records. Empty series when the run
+// kept no frames (count-only scenarios).
+TimingSamples timing_samples(const nlohmann::json& scenario_summary);
+
+struct TimingPolicy {
+  double min_ratio = 1.25;    // the smallest slowdown (or, inverted, speed-up) worth a verdict
+  double alpha = 0.001;       // one-sided error rate of each end of the interval
+  double min_abs_ms = 0.05;   // and at least this much slower or faster, in ms
+  std::uint32_t resamples = 4000;
+  std::uint32_t block = 4;    // frames per bootstrap block
+  std::size_t min_samples = 8;  // fewer frames on either side: not judged
+};
+
+struct SeriesVerdict {
+  std::string name;
+  std::string verdict;  // "unchanged", "regressed", "improved", "too_few_samples", "new", "missing"
+  std::size_t baseline_samples = 0, measured_samples = 0;
+  double baseline_median = 0.0, measured_median = 0.0;  // in the unit
+  double baseline_ms = 0.0, measured_ms = 0.0;          // medians of the raw ms
+  double ratio = 0.0, low = 0.0, high = 0.0;            // run / baseline, and its interval
+  nlohmann::json to_json() const;
+};
+
+struct TimingComparison {
+  // "unchanged", "regressed", "improved" (none regressed, one faster),
+  // "not_compared" (units differ: a baseline of another device type; no
+  // samples on either side; no series long enough to judge).
+  std::string verdict = "not_compared";
+  std::string unit;
+  std::string reason;  // why not compared
+  double interval = 0.0;  // the interval's coverage, 1 - 2 alpha
+  double min_ratio = 0.0;
+  std::vector<SeriesVerdict> series;
+  std::size_t regressions() const;
+  nlohmann::json to_json() const;
+};
+
+TimingComparison compare_timings(const TimingSamples& baseline, const TimingSamples& measured,
+                                 const TimingPolicy& policy = {});
+
+// The ratio of medians of two sample sets and its central 1 - 2 alpha
+// interval by moving block bootstrap (exposed for its tests).
+struct RatioInterval {
+  double ratio = 0.0, low = 0.0, high = 0.0;
+};
+RatioInterval median_ratio_interval(const std::vector<double>& baseline, const std::vector<double>& measured,
+                                    const TimingPolicy& policy, std::uint64_t seed);
+
+}  // namespace gi
