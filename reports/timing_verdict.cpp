@@ -49,9 +49,9 @@ nlohmann::json TimingSamples::to_json() const {
   nlohmann::json s = nlohmann::json::object();
   for (const auto& [name, v] : series) {
     nlohmann::json a = nlohmann::json::array();
-    // Six significant digits: the samples vary by percents, and a baseline
-    // of 40 scenarios stays small.
-    for (double x : v) a.push_back(std::stod(fmt::format("{:.6g}", x)));
+    // Four significant digits: the samples vary by percents, and a
+    // baseline of 40 scenarios stays small.
+    for (double x : v) a.push_back(std::stod(fmt::format("{:.4g}", x)));
     s[name] = a;
   }
   return {{"unit", unit}, {"calibration_ms", json_figure(calibration_ms)}, {"series", s}};
@@ -117,6 +117,15 @@ TimingSamples timing_samples(const nlohmann::json& s) {
       }
     }
     if (any) out.series[kPipelineTotal].push_back(total * scale);
+  }
+  // A regular subsample of long runs: kMaxTimingSamples say as much about a
+  // median as 300 frames do, and keep a baseline small (both sides alike).
+  for (auto& [name, v] : out.series) {
+    const std::size_t stride = (v.size() + kMaxTimingSamples - 1) / kMaxTimingSamples;
+    if (stride <= 1) continue;
+    std::vector<double> kept_samples;
+    for (std::size_t i = 0; i < v.size(); i += stride) kept_samples.push_back(v[i]);
+    v = std::move(kept_samples);
   }
   return out;
 }

@@ -37,6 +37,7 @@ namespace gi {
 
 inline constexpr std::size_t kCalibrationWindow = 9;  // frames: the one judged and four either side
 inline constexpr const char* kPipelineTotal = "pipeline_total";
+inline constexpr std::size_t kMaxTimingSamples = 64;  // per series: longer runs are subsampled regularly
 
 struct TimingSamples {
   // "calibration" (multiples of the calibration kernel's time) or "ms".
