@@ -54,7 +54,7 @@ struct RendererOptions {
   // The output and the frame record's measures made on the GPU each frame
   // (gpu/passes/frame_output.h; needs di or reference): what the frame loop reads.
   bool frame_output = false;
-  // The timing calibration kernel first in every frame (gpu/passes/timing_calibration.h):
+  // The timing calibration kernel last in every frame (gpu/passes/timing_calibration.h):
   // the run sets it on a CPU device, where pass times need it to compare.
   bool timing_calibration = false;
 };

@@ -5,7 +5,7 @@
 //
 // Samples. Each frame record of a scenario's summary.json has every pass's
 // GPU time (`pass_ms`). On a CPU device (lavapipe) the frame also timed the
-// calibration kernel (gpu/passes/timing_calibration.h) just before its
+// calibration kernel (gpu/passes/timing_calibration.h) just after its
 // passes; a pass's sample is then its time over the calibration time of the
 // frames around it (the median over a window of kCalibrationWindow frames),
 // a number that stays put when the machine is 2x faster, or loaded by a
@@ -18,7 +18,11 @@
 // block bootstrap of both sample sets (frames are correlated, so blocks of
 // frames are resampled, not single frames), with a fixed seed per series, so
 // the same inputs give the same verdict. A pass regressed when the lower end
-// of the interval is above min_ratio AND it is at least min_abs_ms slower:
+// of the interval is above min_ratio AND, calibrated, its median in ms is
+// too (on lavapipe the calibration's own median moves by up to ~30 % between
+// runs; a real slowdown moves both, a machine 2x slower only the ms, so a
+// regression on a machine faster than the baseline's can be missed) AND it
+// is at least min_abs_ms slower:
 // under a true slowdown of exactly min_ratio, the chance of a flag is about
 // alpha (one-sided), and an unchanged pass, whose ratio is near 1, is far
 // below it. The minimum effect size matters as much as alpha: between-run
@@ -35,7 +39,7 @@
 
 namespace gi {
 
-inline constexpr std::size_t kCalibrationWindow = 9;  // frames: the one judged and four either side
+inline constexpr std::size_t kCalibrationWindow = 17;  // frames: the one judged and eight either side
 inline constexpr const char* kPipelineTotal = "pipeline_total";
 inline constexpr std::size_t kMaxTimingSamples = 64;  // per series: longer runs are subsampled regularly
 
