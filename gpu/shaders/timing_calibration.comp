@@ -1,7 +1,7 @@
 // A fixed amount of work whose time says how fast the device is right now
 // (issue 20): on lavapipe the "GPU" is this machine's CPU, shared with
 // whatever else runs, so a pass's milliseconds mean little alone. Each frame
-// dispatches this kernel first, timed on its own; the nightly compares pass
+// dispatches this kernel last, timed on its own; the nightly compares pass
 // times as multiples of it (reports/timing_verdict.h), so a baseline taken on
 // a machine twice as fast, or under a concurrent build, still compares.
 //
