@@ -188,7 +188,12 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
                            {"nonfinite_pixels", data.nonfinite_pixels},
                            {"nonfinite_samples", t.nonfinite_samples},
                            {"pass_ms", timings}};
-  if (setup_.renderer_options.timing_calibration) record["calibration_ms"] = json_figure(t.calibration_ms);
+  if (setup_.renderer_options.timing_calibration) {
+    record["calibration_ms"] = json_figure(t.calibration_ms);
+    if (t.cpu.available)
+      record["cpu_schedule"] = {{"run_ms", json_figure(double(t.cpu.run_ns) * 1e-6)},
+                                {"wait_ms", json_figure(double(t.cpu.wait_ns) * 1e-6)}};
+  }
   if (setup_.realtime) {
     record["signal_mean_luminance"] = {{"di", json_figure(t.measures.di_luminance)}};
     if (setup_.gi) {
@@ -252,6 +257,9 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
 void FrameLoop::run() {
   const std::uint32_t width = setup_.width, height = setup_.height;
   std::optional<Taken> deferred;
+  // On a CPU device the passes run on this process's threads: how long they
+  // waited for a CPU says how loaded the machine was (core/cpu_schedule.h).
+  const bool cpu_timed = setup_.renderer_options.timing_calibration;
   for (std::uint32_t frame = first_frame_; frame < setup_.frames; ++frame) {
     const auto started = std::chrono::steady_clock::now();
     inject_test_fault(scenario_.name, frame);
@@ -266,6 +274,7 @@ void FrameLoop::run() {
       renderer_->list_state(state);
       renderer_->hash_after_next_frame(state_ranges(state));
     }
+    const CpuSchedule cpu_before = cpu_timed ? cpu_schedule_now() : CpuSchedule{};
     renderer_->submit_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
                                             frame, setup_.seed, scenario_.samples_per_frame));
     previous_camera_ = camera;
@@ -277,6 +286,7 @@ void FrameLoop::run() {
     }
     renderer_->finish_frame();
     Taken t = take(frame, started, transfers_before);
+    if (cpu_timed) t.cpu = cpu_schedule_between(cpu_before, cpu_schedule_now());
     if (can_defer(frame)) {
       deferred = std::move(t);
     } else {

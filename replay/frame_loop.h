@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/cpu_schedule.h"
 #include "core/image.h"
 #include "core/scene.h"
 #include "core/scene_flatten.h"
@@ -62,6 +63,7 @@ class FrameLoop {
     std::uint64_t window_samples = 0;
     std::vector<gpu::PassTiming> timings;
     double calibration_ms = 0.0;  // the calibration kernel's time (CPU devices)
+    CpuSchedule cpu;              // this process's CPU run and wait, submission to finish (CPU devices)
     gpu::FrameMeasures measures;
     std::uint64_t nonfinite_samples = 0;
     std::optional<gpu::GiFrameStats> gi_stats;

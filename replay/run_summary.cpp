@@ -13,11 +13,6 @@
 namespace gi {
 namespace {
 
-// Timing statistics over the kept records: every frame up to the log's
-// capacity, a regular subsample of longer runs (frames_log says which).
-// The passes that observe the pipeline rather than make its image.
-bool observation_pass(const std::string& name) { return name == "frame_output" || name == "state_hash"; }
-
 // Beside the passes: each frame's GPU pass sum (all passes; the pipeline's
 // alone) and its host wall time, and the ratio of their medians (issue 16's
 // "wall ≤ 1.25× the GPU pass sum").

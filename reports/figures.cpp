@@ -67,7 +67,8 @@ ScenarioFigures extract_figures(const nlohmann::json& s) {
   if (!frames.empty()) {
     nlohmann::json last = frames.back();
     last.erase("pass_ms");
-    last.erase("calibration_ms");  // a time: the timing verdict's (reports/timing_verdict.h)
+    last.erase("calibration_ms");  // times: the timing verdict's (reports/timing_verdict.h)
+    last.erase("cpu_schedule");
     last.erase("frame");
     flatten(out, "frames/last", last);
   }

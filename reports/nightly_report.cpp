@@ -365,9 +365,10 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error");
   const nlohmann::json timing = suite.value("timing", nlohmann::json::object());
   body += fmt::format("<h2>Timing against the baseline</h2>\n<p class=\"small\">{} scenarios regressed, {} improved, "
-                      "{} unchanged, {} not compared; {}</p>\n",
+                      "{} unchanged, {} not compared ({} of them because the machine was loaded); {}</p>\n",
                       html_figure(timing.value("regressed", 0)), html_figure(timing.value("improved", 0)),
                       html_figure(timing.value("unchanged", 0)), html_figure(timing.value("not_compared", 0)),
+                      html_figure(timing.value("loaded", 0)),
                       timing.value("fatal", false) ? "timing is fatal (--fail-on-timing: exit bit 4)"
                                                    : "reported only: timing never fails this night");
   const auto timing_rows = timing_overview_rows(suite);

@@ -12,6 +12,11 @@ namespace gi {
 // The p-quantile (0..1) of v, linearly interpolated; 0 for none.
 double percentile(std::vector<double> v, double p);
 
+// The passes that observe the pipeline rather than make its image (the
+// output's reductions, the state hash): timed, but left out of the
+// pipeline's per-frame total.
+inline bool observation_pass(const std::string& name) { return name == "frame_output" || name == "state_hash"; }
+
 // Per pass: frames, mean, median, p95, min, max (ms), plus the total of the
 // means (ms/frame of the recorded passes).
 nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms);

@@ -44,7 +44,7 @@ const std::vector<std::string> kTimingOverviewHeader = {"scenario", "series", "b
                                                          "ratio", "interval", "verdict"};
 
 nlohmann::json timing_tally(const nlohmann::json& suite) {
-  nlohmann::json t = {{"regressed", 0}, {"improved", 0}, {"unchanged", 0}, {"not_compared", 0},
+  nlohmann::json t = {{"regressed", 0}, {"improved", 0}, {"unchanged", 0}, {"not_compared", 0}, {"loaded", 0},
                       {"scenarios_regressed", nlohmann::json::array()},
                       {"fatal", suite.value("fail_on_timing", false)}};
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
@@ -52,6 +52,11 @@ nlohmann::json timing_tally(const nlohmann::json& suite) {
     const std::string v = row["timing"].value("verdict", "not_compared");
     const std::string key = t.contains(v) ? v : "not_compared";
     t[key] = t[key].get<int>() + 1;
+    // Of those not compared, the ones a loaded machine kept from a verdict.
+    const nlohmann::json series = row["timing"].value("series", nlohmann::json::array());
+    if (v == "not_compared" &&
+        std::any_of(series.begin(), series.end(), [](const nlohmann::json& s) { return s.value("verdict", "") == "loaded"; }))
+      t["loaded"] = t["loaded"].get<int>() + 1;
     if (v == "regressed") t["scenarios_regressed"].push_back(row.value("name", "?"));
   }
   return t;
@@ -63,8 +68,17 @@ std::string timing_section(const nlohmann::json& timing) {
       "block-bootstrap interval; regressed when the interval lies above {} and the pass is {} ms slower</p>\n",
       html_verdict(timing.value("verdict", "not_compared")), html_escape(timing.value("unit", "?")),
       100.0 * timing.value("interval_coverage", 0.0), html_figure(timing.value("min_ratio", nlohmann::json())),
-      html_figure(TimingPolicy{}.min_abs_ms));
+      html_figure(timing.value("min_abs_ms", nlohmann::json())));
   if (timing.contains("reason")) out += "<p>" + html_escape(timing["reason"].get<std::string>()) + "</p>\n";
+  // How loaded each side was: frames that waited too long for a CPU are not judged.
+  const nlohmann::json load = timing.value("load", nlohmann::json::object());
+  for (const char* side : {"baseline", "run"})
+    if (load.contains(side))
+      out += fmt::format("<p class=\"small\">{} load: median {} % of the CPU time wanted spent waiting for a CPU; {} "
+                         "of {} frames left out (over {} %)</p>\n",
+                         side, html_figure(100.0 * load[side].value("median_wait_share", 0.0)),
+                         html_figure(load[side].value("loaded_frames", 0)), html_figure(load[side].value("frames", 0)),
+                         html_figure(100.0 * load[side].value("max_wait_share", 0.0)));
   std::vector<std::vector<std::string>> rows;
   for (const nlohmann::json& s : timing.value("series", nlohmann::json::array())) rows.push_back(series_cells(s));
   if (!rows.empty())

@@ -21,7 +21,8 @@ namespace gi {
 // for timing to be fatal (`--fail-on-timing`); correctness keeps 0-3.
 inline constexpr int kTimingExitBit = 4;
 
-// {"regressed", "improved", "unchanged", "not_compared", "scenarios_regressed": [...], "fatal"} over the rows.
+// {"regressed", "improved", "unchanged", "not_compared", "loaded" (of those not compared, for load),
+// "scenarios_regressed": [...], "fatal"} over the rows.
 nlohmann::json timing_tally(const nlohmann::json& suite);
 
 // Per scenario: one row per timed series (pass, baseline ms, measured ms,

@@ -13,10 +13,6 @@
 namespace gi {
 namespace {
 
-// The passes that observe the pipeline rather than make its image: judged as
-// passes, left out of the pipeline's total (as replay/run_summary.cpp does).
-bool observation_pass(const std::string& name) { return name == "frame_output" || name == "state_hash"; }
-
 double median_of(std::vector<double> v) { return percentile(std::move(v), 0.5); }
 
 // FNV-1a: a seed per series that is the same on every platform (std::hash is not).
@@ -43,6 +39,22 @@ double resampled_median(const std::vector<double>& x, std::uint32_t block, std::
   return 0.5 * (upper + *std::max_element(scratch.begin(), scratch.begin() + mid));
 }
 
+nlohmann::json load_json(const TimingSamples& t) {
+  return {{"frames", t.frames}, {"loaded_frames", t.loaded_frames}, {"median_wait_share", json_figure(t.median_wait_share)},
+          {"max_wait_share", json_figure(kMaxFrameWaitShare)}};
+}
+
+// The share of the CPU time the frame's threads wanted that they waited
+// for; negative where the frame has no measurement.
+double frame_wait_share(const nlohmann::json& f) {
+  const nlohmann::json c = f.value("cpu_schedule", nlohmann::json());
+  if (!c.is_object() || !c.contains("run_ms") || !c.contains("wait_ms") || !c["run_ms"].is_number() ||
+      !c["wait_ms"].is_number())
+    return -1.0;
+  const double run = c["run_ms"], wait = c["wait_ms"];
+  return run + wait > 0 ? wait / (run + wait) : 0.0;
+}
+
 }  // namespace
 
 nlohmann::json TimingSamples::to_json() const {
@@ -54,7 +66,9 @@ nlohmann::json TimingSamples::to_json() const {
     for (double x : v) a.push_back(std::stod(fmt::format("{:.4g}", x)));
     s[name] = a;
   }
-  return {{"unit", unit}, {"calibration_ms", json_figure(calibration_ms)}, {"series", s}};
+  nlohmann::json j = {{"unit", unit}, {"calibration_ms", json_figure(calibration_ms)}, {"series", s}};
+  if (load_measured) j["load"] = load_json(*this);
+  return j;
 }
 
 TimingSamples TimingSamples::from_json(const nlohmann::json& j, const std::string& file) {
@@ -66,6 +80,17 @@ TimingSamples TimingSamples::from_json(const nlohmann::json& j, const std::strin
   if (t.unit != "ms" && t.unit != "calibration")
     throw InputError(file, "/timing_samples/unit", "\"ms\" or \"calibration\"");
   if (j.contains("calibration_ms") && j["calibration_ms"].is_number()) t.calibration_ms = j["calibration_ms"];
+  if (j.contains("load")) {
+    const nlohmann::json& l = j["load"];
+    if (!l.is_object() || !l.contains("frames") || !l["frames"].is_number_unsigned() || !l.contains("loaded_frames") ||
+        !l["loaded_frames"].is_number_unsigned() || !l.contains("median_wait_share") || !l["median_wait_share"].is_number())
+      throw InputError(file, "/timing_samples/load",
+                       "an object with counts \"frames\", \"loaded_frames\" and number \"median_wait_share\"");
+    t.load_measured = true;
+    t.frames = l["frames"];
+    t.loaded_frames = l["loaded_frames"];
+    t.median_wait_share = l["median_wait_share"];
+  }
   for (const auto& [name, a] : j["series"].items()) {
     if (!a.is_array()) throw InputError(file, "/timing_samples/series/" + name, "an array of numbers");
     std::vector<double>& v = t.series[name];
@@ -82,9 +107,21 @@ TimingSamples timing_samples(const nlohmann::json& s) {
   TimingSamples out;
   const nlohmann::json frames = s.value("frames", nlohmann::json::array());
   // Frame 0 compiles pipelines inside its timestamps on lavapipe.
-  std::vector<const nlohmann::json*> kept;
+  std::vector<const nlohmann::json*> timed;
   for (const nlohmann::json& f : frames)
-    if (f.is_object() && f.value("frame", 0u) > 0 && f.contains("pass_ms") && f["pass_ms"].is_object()) kept.push_back(&f);
+    if (f.is_object() && f.value("frame", 0u) > 0 && f.contains("pass_ms") && f["pass_ms"].is_object()) timed.push_back(&f);
+  // Frames that waited too long for a CPU are out (see the header's "Load").
+  std::vector<const nlohmann::json*> kept;
+  std::vector<double> wait_shares;
+  for (const nlohmann::json* f : timed) {
+    const double share = frame_wait_share(*f);
+    if (share >= 0) wait_shares.push_back(share);
+    if (share > kMaxFrameWaitShare) ++out.loaded_frames;
+    else kept.push_back(f);
+  }
+  out.frames = timed.size();
+  out.load_measured = !wait_shares.empty();
+  out.median_wait_share = out.load_measured ? median_of(wait_shares) : 0.0;
   if (kept.empty()) return out;
 
   std::vector<double> calibration;
@@ -170,9 +207,11 @@ std::size_t TimingComparison::regressions() const {
 
 nlohmann::json TimingComparison::to_json() const {
   nlohmann::json j = {{"verdict", verdict}, {"unit", unit}, {"interval_coverage", json_figure(interval)},
-                      {"min_ratio", json_figure(min_ratio)}, {"regressions", regressions()},
+                      {"min_ratio", json_figure(min_ratio)}, {"min_abs_ms", json_figure(min_abs_ms)},
+                      {"regressions", regressions()},
                       {"series", nlohmann::json::array()}};
   if (!reason.empty()) j["reason"] = reason;
+  if (!load.is_null()) j["load"] = load;
   for (const SeriesVerdict& s : series) j["series"].push_back(s.to_json());
   return j;
 }
@@ -182,6 +221,29 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
   out.unit = run.unit;
   out.interval = 1.0 - 2.0 * policy.alpha;
   out.min_ratio = policy.min_ratio;
+  out.min_abs_ms = policy.min_abs_ms;
+  if (base.load_measured) out.load["baseline"] = load_json(base);
+  if (run.load_measured) out.load["run"] = load_json(run);
+  // Too few quiet frames on a side: how loaded it was is the reason.
+  auto loaded = [&](const TimingSamples& t) { return t.loaded_frames > 0 && t.frames - t.loaded_frames < policy.min_samples; };
+  auto load_reason = [](const char* side, const TimingSamples& t) {
+    return fmt::format("the machine was loaded during the {}: {} of its {} timed frames waited for a CPU more than "
+                       "{:.0f} % of the CPU time they wanted (median {:.0f} %)",
+                       side, t.loaded_frames, t.frames, 100 * kMaxFrameWaitShare, 100 * t.median_wait_share);
+  };
+  if (loaded(run) || loaded(base)) {
+    out.reason = loaded(run) ? load_reason("run", run) : load_reason("baseline", base);
+    for (const auto& [name, b] : base.series) {
+      SeriesVerdict v;
+      v.name = name;
+      v.verdict = "loaded";
+      v.baseline_samples = b.size();
+      const auto it = run.series.find(name);
+      v.measured_samples = it == run.series.end() ? 0 : it->second.size();
+      out.series.push_back(v);
+    }
+    return out;
+  }
   if (base.series.empty() || run.series.empty()) {
     out.reason = base.series.empty() ? "the baseline has no timing samples" : "the run kept no timed frames";
     return out;

@@ -13,6 +13,18 @@
 // The first frame is left out: lavapipe compiles a pipeline at its first
 // dispatch, inside the timestamps.
 //
+// Load. On lavapipe the passes run on this process's threads, and a build
+// beside the nightly makes them wait for a CPU: on the 2-core machine a
+// frame's long passes then read 2-2.7x slower, its short ones and the
+// calibration kernel (a short dispatch, seldom preempted) hardly at all, so
+// no one factor per frame corrects every pass. The frame loop records how
+// long the process's threads waited for a CPU during each frame
+// (core/cpu_schedule.h); a frame whose threads waited more than
+// kMaxFrameWaitShare of the CPU time they wanted is left out, and a run with
+// too few frames left is not judged, saying how loaded it was. Quiet, the
+// share is ~3 % (the driver's threads and the host's own); under a -j2 build
+// ~50 %.
+//
 // Test. For each pass (and the pipeline's per-frame total), the statistic is
 // the ratio of medians, run over baseline. Its interval comes from a moving
 // block bootstrap of both sample sets (frames are correlated, so blocks of
@@ -42,6 +54,7 @@ namespace gi {
 inline constexpr std::size_t kCalibrationWindow = 17;  // frames: the one judged and eight either side
 inline constexpr const char* kPipelineTotal = "pipeline_total";
 inline constexpr std::size_t kMaxTimingSamples = 64;  // per series: longer runs are subsampled regularly
+inline constexpr double kMaxFrameWaitShare = 0.15;     // a frame that waited more for a CPU: machine loaded
 
 struct TimingSamples {
   // "calibration" (multiples of the calibration kernel's time) or "ms".
@@ -52,6 +65,12 @@ struct TimingSamples {
   // Per series (a pass, or kPipelineTotal: the frame's pass sum without the
   // observation passes), one sample per kept frame.
   std::map<std::string, std::vector<double>> series;
+  // The machine's load over the timed frames (none measured on a GPU, or in
+  // runs recorded before it was): frames, those left out as loaded, and the
+  // median share of the CPU time the process's threads waited for.
+  bool load_measured = false;
+  std::size_t frames = 0, loaded_frames = 0;
+  double median_wait_share = 0.0;
 
   nlohmann::json to_json() const;
   // InputError naming `file` and the JSON path when malformed.
@@ -73,7 +92,9 @@ struct TimingPolicy {
 
 struct SeriesVerdict {
   std::string name;
-  std::string verdict;  // "unchanged", "regressed", "improved", "too_few_samples", "new", "missing"
+  // "unchanged", "regressed", "improved", "too_few_samples", "loaded" (too
+  // few frames left once the loaded ones are out), "new", "missing"
+  std::string verdict;
   std::size_t baseline_samples = 0, measured_samples = 0;
   double baseline_median = 0.0, measured_median = 0.0;  // in the unit
   double baseline_ms = 0.0, measured_ms = 0.0;          // medians of the raw ms
@@ -84,12 +105,15 @@ struct SeriesVerdict {
 struct TimingComparison {
   // "unchanged", "regressed", "improved" (none regressed, one faster),
   // "not_compared" (units differ: a baseline of another device type; no
-  // samples on either side; no series long enough to judge).
+  // samples on either side; no series long enough to judge, e.g. because
+  // the machine was loaded: the reason says by how much).
   std::string verdict = "not_compared";
   std::string unit;
   std::string reason;  // why not compared
   double interval = 0.0;  // the interval's coverage, 1 - 2 alpha
   double min_ratio = 0.0;
+  double min_abs_ms = 0.0;
+  nlohmann::json load;  // {"baseline": {...}, "run": {...}} where measured (TimingSamples' load)
   std::vector<SeriesVerdict> series;
   std::size_t regressions() const;
   nlohmann::json to_json() const;

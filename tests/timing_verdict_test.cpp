@@ -196,6 +196,81 @@ TEST(TimingVerdict, ALoadOnPartOfTheRunIsAbsorbed) {
   EXPECT_EQ(c.verdict, "unchanged") << c.to_json().dump(1);
 }
 
+// A build beside the run on frames [first, last), as measured on the 2-core
+// machine: the frame's threads wait for a CPU half the time they want it,
+// its long pass reads 2.3x slower and a shorter one 1.6x, while the short
+// calibration kernel hardly moves, so the calibration cannot absorb it.
+// Every frame records its CPU schedule (quiet: 3 % waiting).
+nlohmann::json with_cpu_load(nlohmann::json summary, std::size_t first, std::size_t last) {
+  for (nlohmann::json& f : summary["frames"]) {
+    const std::size_t frame = f["frame"];
+    const bool loaded = frame >= first && frame < last;
+    const double run_ms = 25.0, share = loaded ? 0.5 : 0.03;
+    f["cpu_schedule"] = {{"run_ms", run_ms}, {"wait_ms", run_ms * share / (1.0 - share)}};
+    if (!loaded) continue;
+    f["pass_ms"]["di_spatial_shade"] = f["pass_ms"]["di_spatial_shade"].get<double>() * 2.3;
+    f["pass_ms"]["light_tiles"] = f["pass_ms"]["light_tiles"].get<double>() * 1.6;
+  }
+  return summary;
+}
+
+TEST(TimingVerdict, AMachineLoadedAllRunIsNotJudgedAndSaysHowLoaded) {
+  const TimingSamples base = timing_samples(with_cpu_load(summary_of_run(1, 1.0), 0, 0));
+  EXPECT_TRUE(base.load_measured);
+  EXPECT_EQ(base.loaded_frames, 0u);
+  EXPECT_NEAR(base.median_wait_share, 0.03, 1e-9);
+  const nlohmann::json loaded = with_cpu_load(summary_of_run(2, 1.0), 0, 60);
+  // Without the frames' CPU schedule the load reads as a regression of the long pass...
+  nlohmann::json unmeasured = loaded;
+  for (nlohmann::json& f : unmeasured["frames"]) f.erase("cpu_schedule");
+  EXPECT_EQ(compare_timings(base, timing_samples(unmeasured)).verdict, "regressed");
+  // ... with it, the run is not judged, and the reason gives the figures.
+  const TimingSamples run = timing_samples(loaded);
+  EXPECT_EQ(run.frames, 59u);
+  EXPECT_EQ(run.loaded_frames, 59u);
+  const TimingComparison c = compare_timings(base, run);
+  EXPECT_EQ(c.verdict, "not_compared");
+  EXPECT_EQ(c.regressions(), 0u);
+  EXPECT_EQ(series(c, "di_spatial_shade").verdict, "loaded");
+  EXPECT_NE(c.reason.find("59 of its 59 timed frames"), std::string::npos) << c.reason;
+  EXPECT_NE(c.reason.find("median 50 %"), std::string::npos) << c.reason;
+  EXPECT_EQ(c.to_json()["load"]["run"]["loaded_frames"], 59);
+  // A baseline taken on a loaded machine is as unusable: said so.
+  const TimingComparison other = compare_timings(run, base);
+  EXPECT_EQ(other.verdict, "not_compared");
+  EXPECT_NE(other.reason.find("during the baseline"), std::string::npos) << other.reason;
+}
+
+TEST(TimingVerdict, LoadedFramesAreLeftOutAndTheRestJudged) {
+  const TimingSamples base = timing_samples(with_cpu_load(summary_of_run(1, 1.0), 0, 0));
+  // A build over a third of the run: the quiet frames say "unchanged"...
+  const TimingSamples run = timing_samples(with_cpu_load(summary_of_run(3, 1.0), 20, 40));
+  EXPECT_EQ(run.loaded_frames, 20u);
+  EXPECT_EQ(run.series.at("di_spatial_shade").size(), 39u);
+  EXPECT_EQ(compare_timings(base, run).verdict, "unchanged");
+  // ... and still find a real slowdown of one pass among them.
+  const TimingComparison slowed = compare_timings(base, timing_samples(with_cpu_load(summary_of_run(4, 1.0, 1.5), 20, 40)));
+  EXPECT_EQ(series(slowed, "light_tiles").verdict, "regressed");
+  EXPECT_EQ(series(slowed, "di_spatial_shade").verdict, "unchanged");
+}
+
+TEST(TimingVerdict, TheLoadTravelsWithTheBaselineAndIsChecked) {
+  const TimingSamples t = timing_samples(with_cpu_load(summary_of_run(1, 1.0), 10, 15));
+  const TimingSamples back = TimingSamples::from_json(t.to_json(), "b.json");
+  EXPECT_TRUE(back.load_measured);
+  EXPECT_EQ(back.frames, t.frames);
+  EXPECT_EQ(back.loaded_frames, 5u);
+  EXPECT_NEAR(back.median_wait_share, t.median_wait_share, 1e-6);
+  nlohmann::json bad = t.to_json();
+  bad["load"]["frames"] = "many";
+  try {
+    TimingSamples::from_json(bad, "b.json");
+    FAIL() << "a malformed load was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/timing_samples/load"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TimingVerdict, MissingNewShortAndIncomparableSeriesAreSaidNotJudged) {
   const TimingSamples base = samples_in_ms({{"gone", noisy_series(1, 60, 1)}, {"short", {1, 1, 1}}, {"p", noisy_series(1, 60, 2)}});
   const TimingComparison c = compare_timings(

@@ -448,9 +448,9 @@ int run_nightly(const NightlyOptions& o) {
     spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
                  "update --from {}`)", class_dir.string(), o.out_dir.string());
   const nlohmann::json& timing = suite["timing"];
-  spdlog::info("timing: {} scenarios regressed, {} improved, {} unchanged, {} not compared{}",
+  spdlog::info("timing: {} scenarios regressed, {} improved, {} unchanged, {} not compared ({} machine loaded){}",
                timing["regressed"].get<int>(), timing["improved"].get<int>(), timing["unchanged"].get<int>(),
-               timing["not_compared"].get<int>(), o.fail_on_timing ? " (--fail-on-timing: exit bit 4)" : " (reported only)");
+               timing["not_compared"].get<int>(), timing["loaded"].get<int>(), o.fail_on_timing ? " (--fail-on-timing: exit bit 4)" : " (reported only)");
   spdlog::info("suite {}: exit {}, {} regressions; {} unchanged, {} changed, {} without an exact baseline; report {}; "
                "junit {}",
                suite["verdict"].get<std::string>(), code, regressions, changes["unchanged"].get<int>(),
