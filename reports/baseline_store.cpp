@@ -4,6 +4,7 @@
 #include <functional>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -51,7 +52,11 @@ void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json
     if (resolved.contains(key)) doc["resolved"][key] = resolved[key];
   // Per-frame pass times for the timing verdicts (reports/timing_verdict.h).
   const TimingSamples samples = timing_samples(s);
-  if (!samples.series.empty()) doc["timing_samples"] = samples.to_json();
+  if (!samples.series.empty() || samples.loaded_frames > 0) doc["timing_samples"] = samples.to_json();
+  if (samples.loaded_frames > 0 && samples.frames - samples.loaded_frames < TimingPolicy{}.min_samples)
+    spdlog::warn("baseline {}: the machine was loaded ({} of {} timed frames waited for a CPU, median {:.0f} % of the "
+                 "time they wanted one): no timing verdict can use it; retake it on a quiet machine",
+                 name, samples.loaded_frames, samples.frames, 100 * samples.median_wait_share);
   doc["final_image_hash"] = s.value("final_image_hash", "");
   if (s.contains("hashes")) doc["hashes"] = s["hashes"];
   const std::filesystem::path image = run_dir / s.value("final_image", kFinalImageFile);
@@ -66,6 +71,24 @@ void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json
     std::filesystem::remove(baseline_image_file(class_dir, name), ec);  // never an image of another run
   }
   write_json_file(baseline_file(class_dir, name), doc);
+}
+
+std::string add_timing_run(const std::filesystem::path& class_dir, const nlohmann::json& s) {
+  const std::string name = s.at("scenario").at("name");
+  std::optional<nlohmann::json> doc = read_baseline_document(class_dir, name);
+  if (!doc) return "no baseline";
+  if (!doc->contains("timing_samples")) return "the baseline has no timing samples";
+  const std::filesystem::path file = baseline_file(class_dir, name);
+  TimingSamples base = TimingSamples::from_json((*doc)["timing_samples"], file.string());
+  const TimingSamples run = timing_samples(s);
+  if (run.unit != base.unit) return "the run's samples are in " + run.unit + ", the baseline's in " + base.unit;
+  if (run.series.empty() || run.loaded(TimingPolicy{}.min_samples)) return "the run was loaded or kept no timed frames";
+  base.other_runs.push_back(run.medians());
+  if (base.other_runs.size() >= kTimingRunsKept)
+    base.other_runs.erase(base.other_runs.begin(), base.other_runs.end() - std::ptrdiff_t(kTimingRunsKept - 1));
+  (*doc)["timing_samples"] = base.to_json();
+  write_json_file(file, *doc);
+  return "";
 }
 
 ImageBudget enforce_image_budget(const std::filesystem::path& class_dir, double budget_mb) {

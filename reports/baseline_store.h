@@ -32,6 +32,12 @@ std::filesystem::path baseline_image_file(const std::filesystem::path& class_dir
 void write_baseline(const std::filesystem::path& class_dir, const nlohmann::json& scenario_summary,
                     const std::filesystem::path& run_dir);
 
+// Adds the timing medians of another run of the same tree to a scenario's
+// baseline (`nightly --add-timing-run`; reports/timing_verdict.h, "Run-to-run
+// spread"), keeping the newest kTimingRunsKept - 1. Returns why it did not:
+// no baseline, no timing samples, another unit, or a loaded run; "" when added.
+std::string add_timing_run(const std::filesystem::path& class_dir, const nlohmann::json& scenario_summary);
+
 // The default suite's baseline images must stay small enough to commit.
 inline constexpr double kDefaultImageBudgetMb = 20.0;
 

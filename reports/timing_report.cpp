@@ -22,12 +22,20 @@ std::string interval_text(const nlohmann::json& s) {
   return "[" + html_figure(iv[0]) + ", " + html_figure(iv[1]) + "]";
 }
 
+// How many runs the baseline kept of this series and their spread (slowest
+// median over fastest): what a slowdown must exceed besides min_ratio.
+std::string baseline_runs_text(const nlohmann::json& s) {
+  const std::size_t runs = s.value("baseline_runs", 0u);
+  if (runs <= 1) return runs == 1 ? "1" : "&ndash;";
+  return fmt::format("{} (&times;{})", runs, html_figure(s.value("spread", nlohmann::json())));
+}
+
 std::vector<std::string> series_cells(const nlohmann::json& s) {
   return {html_escape(s.value("name", "?")),
           "<span class=\"num\">" + html_figure(s.value("baseline_ms", nlohmann::json())) + "</span>",
           "<span class=\"num\">" + html_figure(s.value("measured_ms", nlohmann::json())) + "</span>",
           "<span class=\"num\">" + html_figure(s.value("ratio", nlohmann::json())) + "</span>",
-          interval_text(s), html_verdict(s.value("verdict", "?"))};
+          interval_text(s), baseline_runs_text(s), html_verdict(s.value("verdict", "?"))};
 }
 
 // A pointer into `timing` (not into a copy: value() would return one).
@@ -40,8 +48,8 @@ const nlohmann::json* pipeline_total(const nlohmann::json& timing) {
 
 }  // namespace
 
-const std::vector<std::string> kTimingOverviewHeader = {"scenario", "series", "baseline ms", "measured ms",
-                                                         "ratio", "interval", "verdict"};
+const std::vector<std::string> kTimingOverviewHeader = {"scenario", "series", "baseline ms", "measured ms", "ratio",
+                                                         "interval", "baseline runs (spread)", "verdict"};
 
 nlohmann::json timing_tally(const nlohmann::json& suite) {
   nlohmann::json t = {{"regressed", 0}, {"improved", 0}, {"unchanged", 0}, {"not_compared", 0}, {"loaded", 0},
@@ -65,7 +73,8 @@ nlohmann::json timing_tally(const nlohmann::json& suite) {
 std::string timing_section(const nlohmann::json& timing) {
   std::string out = fmt::format(
       "<p class=\"small\">timing {} &mdash; samples in {}; ratio of medians run/baseline with its {:.1f} % "
-      "block-bootstrap interval; regressed when the interval lies above {} and the pass is {} ms slower</p>\n",
+      "block-bootstrap interval; regressed when the interval lies above {} (times the spread of the baseline's runs) "
+      "and the pass is {} ms slower</p>\n",
       html_verdict(timing.value("verdict", "not_compared")), html_escape(timing.value("unit", "?")),
       100.0 * timing.value("interval_coverage", 0.0), html_figure(timing.value("min_ratio", nlohmann::json())),
       html_figure(timing.value("min_abs_ms", nlohmann::json())));
@@ -82,7 +91,7 @@ std::string timing_section(const nlohmann::json& timing) {
   std::vector<std::vector<std::string>> rows;
   for (const nlohmann::json& s : timing.value("series", nlohmann::json::array())) rows.push_back(series_cells(s));
   if (!rows.empty())
-    out += html_table({"series", "baseline ms", "measured ms", "ratio", "interval", "verdict"}, rows);
+    out += html_table({"series", "baseline ms", "measured ms", "ratio", "interval", "baseline runs (spread)", "verdict"}, rows);
   return out;
 }
 

@@ -39,6 +39,24 @@ double resampled_median(const std::vector<double>& x, std::uint32_t block, std::
   return 0.5 * (upper + *std::max_element(scratch.begin(), scratch.begin() + mid));
 }
 
+nlohmann::json medians_json(const std::map<std::string, double>& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, x] : m) j[name] = std::stod(fmt::format("{:.4g}", x));
+  return j;
+}
+
+// {"series": number >= 0, ...} at `path`.
+std::map<std::string, double> medians_from_json(const nlohmann::json& j, const std::string& file, const std::string& path) {
+  if (!j.is_object()) throw InputError(file, path, "an object of series medians");
+  std::map<std::string, double> m;
+  for (const auto& [name, x] : j.items()) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0)
+      throw InputError(file, path + "/" + name, "a finite number >= 0");
+    m[name] = x;
+  }
+  return m;
+}
+
 nlohmann::json load_json(const TimingSamples& t) {
   return {{"frames", t.frames}, {"loaded_frames", t.loaded_frames}, {"median_wait_share", json_figure(t.median_wait_share)},
           {"max_wait_share", json_figure(kMaxFrameWaitShare)}};
@@ -67,7 +85,12 @@ nlohmann::json TimingSamples::to_json() const {
     s[name] = a;
   }
   nlohmann::json j = {{"unit", unit}, {"calibration_ms", json_figure(calibration_ms)}, {"series", s}};
+  if (!median_ms.empty()) j["median_ms"] = medians_json(median_ms);
   if (load_measured) j["load"] = load_json(*this);
+  if (!other_runs.empty()) {
+    j["other_runs"] = nlohmann::json::array();
+    for (const RunMedians& r : other_runs) j["other_runs"].push_back({{"median", medians_json(r.unit)}, {"median_ms", medians_json(r.ms)}});
+  }
   return j;
 }
 
@@ -90,6 +113,18 @@ TimingSamples TimingSamples::from_json(const nlohmann::json& j, const std::strin
     t.frames = l["frames"];
     t.loaded_frames = l["loaded_frames"];
     t.median_wait_share = l["median_wait_share"];
+  }
+  if (j.contains("median_ms")) t.median_ms = medians_from_json(j["median_ms"], file, "/timing_samples/median_ms");
+  if (j.contains("other_runs")) {
+    if (!j["other_runs"].is_array()) throw InputError(file, "/timing_samples/other_runs", "an array of runs");
+    for (std::size_t i = 0; i < j["other_runs"].size(); ++i) {
+      const nlohmann::json& r = j["other_runs"][i];
+      const std::string path = "/timing_samples/other_runs/" + std::to_string(i);
+      if (!r.is_object() || !r.contains("median") || !r.contains("median_ms"))
+        throw InputError(file, path, "an object with \"median\" and \"median_ms\"");
+      t.other_runs.push_back({medians_from_json(r["median"], file, path + "/median"),
+                              medians_from_json(r["median_ms"], file, path + "/median_ms")});
+    }
   }
   for (const auto& [name, a] : j["series"].items()) {
     if (!a.is_array()) throw InputError(file, "/timing_samples/series/" + name, "an array of numbers");
@@ -133,6 +168,7 @@ TimingSamples timing_samples(const nlohmann::json& s) {
   out.unit = calibrated ? "calibration" : "ms";
   out.calibration_ms = calibrated ? median_of(calibration) : 0.0;
 
+  std::map<std::string, std::vector<double>> raw_ms;
   for (std::size_t i = 0; i < kept.size(); ++i) {
     double scale = 1.0;
     if (calibrated) {
@@ -148,13 +184,18 @@ TimingSamples timing_samples(const nlohmann::json& s) {
       // a series of one or two frames says nothing about speed.
       if (name == "state_hash") continue;
       out.series[name].push_back(ms.get<double>() * scale);
+      raw_ms[name].push_back(ms.get<double>());
       if (!observation_pass(name)) {
         total += ms.get<double>();
         any = true;
       }
     }
-    if (any) out.series[kPipelineTotal].push_back(total * scale);
+    if (any) {
+      out.series[kPipelineTotal].push_back(total * scale);
+      raw_ms[kPipelineTotal].push_back(total);
+    }
   }
+  for (auto& [name, v] : raw_ms) out.median_ms[name] = median_of(std::move(v));
   // A regular subsample of long runs: kMaxTimingSamples say as much about a
   // median as 300 frames do, and keep a baseline small (both sides alike).
   for (auto& [name, v] : out.series) {
@@ -165,6 +206,13 @@ TimingSamples timing_samples(const nlohmann::json& s) {
     v = std::move(kept_samples);
   }
   return out;
+}
+
+RunMedians TimingSamples::medians() const {
+  RunMedians r;
+  for (const auto& [name, v] : series) r.unit[name] = median_of(v);
+  r.ms = median_ms;
+  return r;
 }
 
 RatioInterval median_ratio_interval(const std::vector<double>& baseline, const std::vector<double>& measured,
@@ -198,7 +246,9 @@ nlohmann::json SeriesVerdict::to_json() const {
           {"baseline_ms", json_figure(baseline_ms)},
           {"measured_ms", json_figure(measured_ms)},
           {"ratio", json_figure(ratio)},
-          {"interval", {json_figure(low), json_figure(high)}}};
+          {"interval", {json_figure(low), json_figure(high)}},
+          {"baseline_runs", baseline_runs},
+          {"spread", json_figure(spread)}};
 }
 
 std::size_t TimingComparison::regressions() const {
@@ -225,7 +275,7 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
   if (base.load_measured) out.load["baseline"] = load_json(base);
   if (run.load_measured) out.load["run"] = load_json(run);
   // Too few quiet frames on a side: how loaded it was is the reason.
-  auto loaded = [&](const TimingSamples& t) { return t.loaded_frames > 0 && t.frames - t.loaded_frames < policy.min_samples; };
+  auto loaded = [&](const TimingSamples& t) { return t.loaded(policy.min_samples); };
   auto load_reason = [](const char* side, const TimingSamples& t) {
     return fmt::format("the machine was loaded during the {}: {} of its {} timed frames waited for a CPU more than "
                        "{:.0f} % of the CPU time they wanted (median {:.0f} %)",
@@ -254,13 +304,19 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
   }
   // A difference in the unit, stated in ms at each side's own calibration.
   auto to_ms = [](const TimingSamples& t, double v) { return t.unit == "calibration" ? v * t.calibration_ms : v; };
+  // A series' median in ms: its raw frames' where recorded (baselines since
+  // 2026-12-04), else its unit's median at the side's calibration.
+  auto ms_of = [&](const TimingSamples& t, const std::string& name, double unit_median) {
+    const auto it = t.median_ms.find(name);
+    return it != t.median_ms.end() ? it->second : to_ms(t, unit_median);
+  };
   bool regressed = false, improved = false;
   for (const auto& [name, b] : base.series) {
     SeriesVerdict v;
     v.name = name;
     v.baseline_samples = b.size();
     v.baseline_median = median_of(b);
-    v.baseline_ms = to_ms(base, v.baseline_median);
+    v.baseline_ms = ms_of(base, name, v.baseline_median);
     const auto it = run.series.find(name);
     if (it == run.series.end()) {
       v.verdict = "missing";
@@ -270,7 +326,7 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
     const std::vector<double>& m = it->second;
     v.measured_samples = m.size();
     v.measured_median = median_of(m);
-    v.measured_ms = to_ms(run, v.measured_median);
+    v.measured_ms = ms_of(run, name, v.measured_median);
     if (b.size() < policy.min_samples || m.size() < policy.min_samples || v.baseline_median <= 0) {
       v.verdict = "too_few_samples";
       v.ratio = v.baseline_median > 0 ? v.measured_median / v.baseline_median : 0.0;
@@ -281,17 +337,34 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
     v.ratio = r.ratio;
     v.low = r.low;
     v.high = r.high;
-    // The ms difference at the run's own speed: what this machine lost now.
-    const double diff_ms = std::fabs(to_ms(run, v.measured_median - v.baseline_median));
+    // The baseline's runs, its own and the other ones kept with it: the
+    // slowest and the fastest median of the series, in the unit and in ms.
+    double unit_hi = v.baseline_median, unit_lo = v.baseline_median, ms_hi = v.baseline_ms, ms_lo = v.baseline_ms;
+    v.baseline_runs = 1;
+    for (const RunMedians& other : base.other_runs) {
+      const auto u = other.unit.find(name), ms = other.ms.find(name);
+      if (u == other.unit.end() || ms == other.ms.end() || u->second <= 0) continue;
+      ++v.baseline_runs;
+      unit_hi = std::max(unit_hi, u->second);
+      unit_lo = std::min(unit_lo, u->second);
+      ms_hi = std::max(ms_hi, ms->second);
+      ms_lo = std::min(ms_lo, ms->second);
+    }
+    v.spread = unit_hi / unit_lo;
+    const double slower_than = policy.min_ratio * unit_hi / v.baseline_median;  // on the interval's ratio scale
+    const double faster_than = policy.min_ratio * v.baseline_median / unit_lo;
     // Calibrated, the slowdown must also show in ms (the medians at each
     // side's own speed): on lavapipe the calibration kernel's own median
     // moves by up to ~30 % between runs of one scenario, which alone would
     // read as a change of every pass; a real one moves both.
-    const double ms_ratio = v.baseline_ms > 0 ? v.measured_ms / v.baseline_ms : 0.0;
-    const bool ms_slower = run.unit != "calibration" || ms_ratio > policy.min_ratio;
-    const bool ms_faster = run.unit != "calibration" || ms_ratio < 1.0 / policy.min_ratio;
-    if (r.low > policy.min_ratio && ms_slower && diff_ms >= policy.min_abs_ms) v.verdict = "regressed";
-    else if (r.high < 1.0 / policy.min_ratio && ms_faster && diff_ms >= policy.min_abs_ms) v.verdict = "improved";
+    const bool calibrated = run.unit == "calibration";
+    const bool ms_slower = !calibrated || v.measured_ms > policy.min_ratio * ms_hi;
+    const bool ms_faster = !calibrated || v.measured_ms * policy.min_ratio < ms_lo;
+    // And by min_abs_ms at least, at the run's own speed: what this machine lost now.
+    const bool enough_slower = to_ms(run, v.measured_median - unit_hi) >= policy.min_abs_ms;
+    const bool enough_faster = to_ms(run, unit_lo - v.measured_median) >= policy.min_abs_ms;
+    if (r.low > slower_than && ms_slower && enough_slower) v.verdict = "regressed";
+    else if (r.high < 1.0 / faster_than && ms_faster && enough_faster) v.verdict = "improved";
     else v.verdict = "unchanged";
     regressed |= v.verdict == "regressed";
     improved |= v.verdict == "improved";
@@ -304,7 +377,7 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
       v.verdict = "new";
       v.measured_samples = m.size();
       v.measured_median = median_of(m);
-      v.measured_ms = to_ms(run, v.measured_median);
+      v.measured_ms = ms_of(run, name, v.measured_median);
       out.series.push_back(v);
     }
   const bool judged = std::any_of(out.series.begin(), out.series.end(), [](const SeriesVerdict& v) {

@@ -30,8 +30,8 @@
 // block bootstrap of both sample sets (frames are correlated, so blocks of
 // frames are resampled, not single frames), with a fixed seed per series, so
 // the same inputs give the same verdict. A pass regressed when the lower end
-// of the interval is above min_ratio AND, calibrated, its median in ms is
-// too (on lavapipe the calibration's own median moves by up to ~30 % between
+// of the interval is above min_ratio (times the baseline's run-to-run spread,
+// below) AND, calibrated, its median in ms is too (on lavapipe the calibration's own median moves by up to ~30 % between
 // runs; a real slowdown moves both, a machine 2x slower only the ms, so a
 // regression on a machine faster than the baseline's can be missed) AND it
 // is at least min_abs_ms slower:
@@ -40,6 +40,15 @@
 // below it. The minimum effect size matters as much as alpha: between-run
 // variation that the calibration does not remove is not in the bootstrap's
 // view, so a small, real-looking shift is never enough.
+//
+// Run-to-run spread. Some passes run at a speed of their own in each process:
+// on the 2-core VM an unchanged gbuffer_resolve took 0.81 ms in every frame
+// of one run and 1.10 ms in every frame of the next (thread placement, memory
+// layout), a shift no sample within one run can tell from a regression. A
+// baseline may therefore keep the medians of other runs of the same tree
+// (`nightly --add-timing-run`, up to kTimingRunsKept runs in all): a series
+// then regressed only when it is min_ratio slower than the slowest of them,
+// improved only when min_ratio faster than the fastest.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -55,6 +64,12 @@ inline constexpr std::size_t kCalibrationWindow = 17;  // frames: the one judged
 inline constexpr const char* kPipelineTotal = "pipeline_total";
 inline constexpr std::size_t kMaxTimingSamples = 64;  // per series: longer runs are subsampled regularly
 inline constexpr double kMaxFrameWaitShare = 0.15;     // a frame that waited more for a CPU: machine loaded
+inline constexpr std::size_t kTimingRunsKept = 8;      // a baseline's runs (its own and other_runs) bounding the spread
+
+// One run's median per series, in the samples' unit and in ms.
+struct RunMedians {
+  std::map<std::string, double> unit, ms;
+};
 
 struct TimingSamples {
   // "calibration" (multiples of the calibration kernel's time) or "ms".
@@ -65,6 +80,11 @@ struct TimingSamples {
   // Per series (a pass, or kPipelineTotal: the frame's pass sum without the
   // observation passes), one sample per kept frame.
   std::map<std::string, std::vector<double>> series;
+  // Per series, the median of its raw ms over the kept frames.
+  std::map<std::string, double> median_ms;
+  // Baselines only: the medians of other runs of the same tree, oldest first
+  // (at most kTimingRunsKept - 1; see "Run-to-run spread").
+  std::vector<RunMedians> other_runs;
   // The machine's load over the timed frames (none measured on a GPU, or in
   // runs recorded before it was): frames, those left out as loaded, and the
   // median share of the CPU time the process's threads waited for.
@@ -72,6 +92,9 @@ struct TimingSamples {
   std::size_t frames = 0, loaded_frames = 0;
   double median_wait_share = 0.0;
 
+  RunMedians medians() const;  // this run's
+  // Too few frames left once the loaded ones are out.
+  bool loaded(std::size_t min_samples) const { return loaded_frames > 0 && frames - loaded_frames < min_samples; }
   nlohmann::json to_json() const;
   // InputError naming `file` and the JSON path when malformed.
   static TimingSamples from_json(const nlohmann::json& j, const std::string& file);
@@ -99,6 +122,8 @@ struct SeriesVerdict {
   double baseline_median = 0.0, measured_median = 0.0;  // in the unit
   double baseline_ms = 0.0, measured_ms = 0.0;          // medians of the raw ms
   double ratio = 0.0, low = 0.0, high = 0.0;            // run / baseline, and its interval
+  std::size_t baseline_runs = 0;  // runs of the baseline that had this series
+  double spread = 1.0;            // their slowest median over their fastest (1: one run)
   nlohmann::json to_json() const;
 };
 

@@ -50,6 +50,17 @@ TEST(TimingNightly, ASlowedPassIsNamedAndOnlyTheTimingBitIsSet) {
   EXPECT_EQ(load["frames"], 39) << load.dump();
   EXPECT_EQ(baseline["timing_samples"]["series"]["light_tiles"].size(), 39u - load["loaded_frames"].get<std::size_t>());
 
+  // A second run of the unchanged tree adds its medians to the baseline:
+  // the run-to-run spread the verdict allows for.
+  const test::CommandResult again = nightly("again", "--add-timing-run", "");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(test::read_json(dir.path() / "again/summary.json")["scenarios"][0].value("timing_run_added", false), true)
+      << again.output;
+  const nlohmann::json runs = test::read_json(class_dir / "timed_di.json")["timing_samples"]["other_runs"];
+  ASSERT_EQ(runs.size(), 1u) << runs.dump();
+  EXPECT_GT(runs[0]["median"]["light_tiles"].get<double>(), 0.0);
+  EXPECT_GT(runs[0]["median_ms"]["light_tiles"].get<double>(), 0.0);
+
   const test::CommandResult slow =
       nightly("slow", "--fail-on-timing" + history, "GIHARNESS_TEST_SLOW_PASS=light_tiles:3");
   EXPECT_EQ(slow.exit_code, 4) << slow.output;
@@ -63,6 +74,7 @@ TEST(TimingNightly, ASlowedPassIsNamedAndOnlyTheTimingBitIsSet) {
   ASSERT_NE(tiles, nullptr) << row["timing"].dump(1);
   EXPECT_EQ((*tiles)["verdict"], "regressed") << tiles->dump(1);
   EXPECT_GT((*tiles)["interval"][0].get<double>(), 1.25) << tiles->dump(1);
+  EXPECT_EQ((*tiles)["baseline_runs"], 2) << tiles->dump(1);
   EXPECT_EQ(summary["verdict"], "timing_regressed");
   EXPECT_NE(test::read_text(dir.path() / "slow/junit.xml").find("timing regressed (--fail-on-timing): light_tiles"),
             std::string::npos);
