@@ -57,6 +57,19 @@ std::map<std::string, double> medians_from_json(const nlohmann::json& j, const s
   return m;
 }
 
+// The typical change of a scenario's passes from `base` to `run`: the median
+// over the passes they share (not the total) of their ratios of medians; NaN
+// with fewer than kMinPassesForRelative.
+double typical_ratio(const std::map<std::string, double>& run, const std::map<std::string, double>& base) {
+  std::vector<double> ratios;
+  for (const auto& [name, b] : base) {
+    const auto it = run.find(name);
+    if (name == kPipelineTotal || it == run.end() || b <= 0 || it->second <= 0) continue;
+    ratios.push_back(it->second / b);
+  }
+  return ratios.size() >= kMinPassesForRelative ? median_of(ratios) : std::nan("");
+}
+
 nlohmann::json load_json(const TimingSamples& t) {
   return {{"frames", t.frames}, {"loaded_frames", t.loaded_frames}, {"median_wait_share", json_figure(t.median_wait_share)},
           {"max_wait_share", json_figure(kMaxFrameWaitShare)}};
@@ -248,7 +261,9 @@ nlohmann::json SeriesVerdict::to_json() const {
           {"ratio", json_figure(ratio)},
           {"interval", {json_figure(low), json_figure(high)}},
           {"baseline_runs", baseline_runs},
-          {"spread", json_figure(spread)}};
+          {"spread", json_figure(spread)},
+          {"basis", basis},
+          {"calibrated_ratio", json_figure(calibrated_ratio)}};
 }
 
 std::size_t TimingComparison::regressions() const {
@@ -262,6 +277,7 @@ nlohmann::json TimingComparison::to_json() const {
                       {"series", nlohmann::json::array()}};
   if (!reason.empty()) j["reason"] = reason;
   if (!load.is_null()) j["load"] = load;
+  if (typical_ratio > 0) j["typical_ratio"] = json_figure(typical_ratio);
   for (const SeriesVerdict& s : series) j["series"].push_back(s.to_json());
   return j;
 }
@@ -310,6 +326,13 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
     const auto it = t.median_ms.find(name);
     return it != t.median_ms.end() ? it->second : to_ms(t, unit_median);
   };
+  // The typical change of the scenario's passes, this run's and each other
+  // baseline run's against the baseline's own (see "Relative" in the header).
+  const RunMedians base_medians = base.medians();
+  const double typical = typical_ratio(run.medians().unit, base_medians.unit);
+  std::vector<double> other_typical;
+  for (const RunMedians& other : base.other_runs) other_typical.push_back(typical_ratio(other.unit, base_medians.unit));
+  if (std::isfinite(typical)) out.typical_ratio = typical;
   bool regressed = false, improved = false;
   for (const auto& [name, b] : base.series) {
     SeriesVerdict v;
@@ -337,6 +360,37 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
     v.ratio = r.ratio;
     v.low = r.low;
     v.high = r.high;
+    if (name != kPipelineTotal && std::isfinite(typical)) {
+      // A pass, judged against the others: its interval over the typical
+      // change, beyond the baseline runs' own relative spread.
+      double rel_hi = 1.0, rel_lo = 1.0;
+      v.baseline_runs = 1;
+      for (std::size_t i = 0; i < base.other_runs.size(); ++i) {
+        const auto u = base.other_runs[i].unit.find(name);
+        if (u == base.other_runs[i].unit.end() || u->second <= 0 || !std::isfinite(other_typical[i])) continue;
+        ++v.baseline_runs;
+        const double rel = u->second / v.baseline_median / other_typical[i];
+        rel_hi = std::max(rel_hi, rel);
+        rel_lo = std::min(rel_lo, rel);
+      }
+      v.spread = rel_hi / rel_lo;
+      v.basis = "relative";
+      v.calibrated_ratio = r.ratio;
+      v.ratio = r.ratio / typical;
+      v.low = r.low / typical;
+      v.high = r.high / typical;
+      // At least min_abs_ms beyond the slowest (fastest) baseline run, at the run's speed.
+      const double expected = v.baseline_median * typical;
+      const bool enough_slower = to_ms(run, v.measured_median - expected * rel_hi) >= policy.min_abs_ms;
+      const bool enough_faster = to_ms(run, expected * rel_lo - v.measured_median) >= policy.min_abs_ms;
+      if (v.low > policy.min_ratio * rel_hi && enough_slower) v.verdict = "regressed";
+      else if (v.high * policy.min_ratio < rel_lo && enough_faster) v.verdict = "improved";
+      else v.verdict = "unchanged";
+      regressed |= v.verdict == "regressed";
+      improved |= v.verdict == "improved";
+      out.series.push_back(v);
+      continue;
+    }
     // The baseline's runs, its own and the other ones kept with it: the
     // slowest and the fastest median of the series, in the unit and in ms.
     double unit_hi = v.baseline_median, unit_lo = v.baseline_median, ms_hi = v.baseline_ms, ms_lo = v.baseline_ms;

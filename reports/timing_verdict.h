@@ -41,6 +41,19 @@
 // variation that the calibration does not remove is not in the bootstrap's
 // view, so a small, real-looking shift is never enough.
 //
+// Relative. The calibration carries a baseline across machines only roughly
+// (its median drifts up to ~30 % between runs on the 2-core VM, and the
+// machine's speed does as much), so a pass is judged against the scenario's
+// other passes: its ratio and interval are divided by the typical ratio, the
+// median over the passes of their ratios of medians (kMinPassesForRelative
+// at least). A machine 2x faster, a drifting calibration, a slower memory
+// move every pass alike and cancel; one pass that changed does not move the
+// median. Measured on 30 quiet nights of 8 scenarios: unchanged passes read
+// 0.85-1.22 (5th-95th percentile) relative, 0.72-1.44 calibrated; a 1.5x
+// light_tiles read 1.25-2.05 relative, 1.09-2.08 calibrated. The blind spot:
+// most passes slowing together reads as none; the pipeline's total, judged
+// absolutely (calibrated, and in ms too), is what sees that.
+//
 // Run-to-run spread. Some passes run at a speed of their own in each process:
 // on the 2-core VM an unchanged gbuffer_resolve took 0.81 ms in every frame
 // of one run and 1.10 ms in every frame of the next (thread placement, memory
@@ -64,6 +77,7 @@ inline constexpr std::size_t kCalibrationWindow = 17;  // frames: the one judged
 inline constexpr const char* kPipelineTotal = "pipeline_total";
 inline constexpr std::size_t kMaxTimingSamples = 64;  // per series: longer runs are subsampled regularly
 inline constexpr double kMaxFrameWaitShare = 0.15;     // a frame that waited more for a CPU: machine loaded
+inline constexpr std::size_t kMinPassesForRelative = 3;  // passes in common to judge one against the others
 inline constexpr std::size_t kTimingRunsKept = 8;      // a baseline's runs (its own and other_runs) bounding the spread
 
 // One run's median per series, in the samples' unit and in ms.
@@ -123,7 +137,12 @@ struct SeriesVerdict {
   double baseline_ms = 0.0, measured_ms = 0.0;          // medians of the raw ms
   double ratio = 0.0, low = 0.0, high = 0.0;            // run / baseline, and its interval
   std::size_t baseline_runs = 0;  // runs of the baseline that had this series
-  double spread = 1.0;            // their slowest median over their fastest (1: one run)
+  double spread = 1.0;            // their slowest median over their fastest (1: one run), on the judged scale
+  // "relative" (a pass against the scenario's other passes: ratio and
+  // interval are over the typical ratio) or "absolute" (the pipeline total,
+  // or too few passes: in the samples' unit, with the ms rule).
+  std::string basis = "absolute";
+  double calibrated_ratio = 0.0;  // relative: the ratio in the samples' unit, before dividing
   nlohmann::json to_json() const;
 };
 
@@ -139,6 +158,7 @@ struct TimingComparison {
   double min_ratio = 0.0;
   double min_abs_ms = 0.0;
   nlohmann::json load;  // {"baseline": {...}, "run": {...}} where measured (TimingSamples' load)
+  double typical_ratio = 0.0;  // the median pass's ratio (0: too few passes to judge relatively)
   std::vector<SeriesVerdict> series;
   std::size_t regressions() const;
   nlohmann::json to_json() const;
