@@ -78,6 +78,10 @@ std::string timing_section(const nlohmann::json& timing) {
       html_verdict(timing.value("verdict", "not_compared")), html_escape(timing.value("unit", "?")),
       100.0 * timing.value("interval_coverage", 0.0), html_figure(timing.value("min_ratio", nlohmann::json())),
       html_figure(timing.value("min_abs_ms", nlohmann::json())));
+  if (timing.contains("typical_ratio"))
+    out += fmt::format("<p class=\"small\">passes are judged relative to the others: their ratio and interval are "
+                       "divided by the typical (median) pass ratio, {}; the pipeline total is judged as measured</p>\n",
+                       html_figure(timing["typical_ratio"]));
   if (timing.contains("reason")) out += "<p>" + html_escape(timing["reason"].get<std::string>()) + "</p>\n";
   // How loaded each side was: frames that waited too long for a CPU are not judged.
   const nlohmann::json load = timing.value("load", nlohmann::json::object());

@@ -86,6 +86,20 @@ double frame_wait_share(const nlohmann::json& f) {
   return run + wait > 0 ? wait / (run + wait) : 0.0;
 }
 
+// The scenario's verdict from its series': regressed, else improved, else
+// unchanged when any series was judged.
+void settle_verdict(TimingComparison& c) {
+  auto any = [&](std::initializer_list<const char*> verdicts) {
+    return std::any_of(c.series.begin(), c.series.end(), [&](const SeriesVerdict& v) {
+      return std::any_of(verdicts.begin(), verdicts.end(), [&](const char* x) { return v.verdict == x; });
+    });
+  };
+  c.verdict = any({"regressed"}) ? "regressed"
+              : any({"improved"}) ? "improved"
+              : any({"unchanged", "unconfirmed"}) ? "unchanged"
+                                                  : "not_compared";
+}
+
 }  // namespace
 
 nlohmann::json TimingSamples::to_json() const {
@@ -277,6 +291,7 @@ nlohmann::json TimingComparison::to_json() const {
                       {"series", nlohmann::json::array()}};
   if (!reason.empty()) j["reason"] = reason;
   if (!load.is_null()) j["load"] = load;
+  if (confirmed) j["confirmed_by_second_run"] = true;
   if (typical_ratio > 0) j["typical_ratio"] = json_figure(typical_ratio);
   for (const SeriesVerdict& s : series) j["series"].push_back(s.to_json());
   return j;
@@ -333,7 +348,6 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
   std::vector<double> other_typical;
   for (const RunMedians& other : base.other_runs) other_typical.push_back(typical_ratio(other.unit, base_medians.unit));
   if (std::isfinite(typical)) out.typical_ratio = typical;
-  bool regressed = false, improved = false;
   for (const auto& [name, b] : base.series) {
     SeriesVerdict v;
     v.name = name;
@@ -386,8 +400,6 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
       if (v.low > policy.min_ratio * rel_hi && enough_slower) v.verdict = "regressed";
       else if (v.high * policy.min_ratio < rel_lo && enough_faster) v.verdict = "improved";
       else v.verdict = "unchanged";
-      regressed |= v.verdict == "regressed";
-      improved |= v.verdict == "improved";
       out.series.push_back(v);
       continue;
     }
@@ -420,8 +432,6 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
     if (r.low > slower_than && ms_slower && enough_slower) v.verdict = "regressed";
     else if (r.high < 1.0 / faster_than && ms_faster && enough_faster) v.verdict = "improved";
     else v.verdict = "unchanged";
-    regressed |= v.verdict == "regressed";
-    improved |= v.verdict == "improved";
     out.series.push_back(v);
   }
   for (const auto& [name, m] : run.series)
@@ -434,12 +444,20 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
       v.measured_ms = ms_of(run, name, v.measured_median);
       out.series.push_back(v);
     }
-  const bool judged = std::any_of(out.series.begin(), out.series.end(), [](const SeriesVerdict& v) {
-    return v.verdict == "unchanged" || v.verdict == "regressed" || v.verdict == "improved";
-  });
-  out.verdict = regressed ? "regressed" : improved ? "improved" : judged ? "unchanged" : "not_compared";
-  if (!judged) out.reason = fmt::format("no series with {} timed frames on both sides", policy.min_samples);
+  settle_verdict(out);
+  if (out.verdict == "not_compared") out.reason = fmt::format("no series with {} timed frames on both sides", policy.min_samples);
   return out;
+}
+
+void confirm_timings(TimingComparison& first, const TimingComparison& second) {
+  for (SeriesVerdict& v : first.series) {
+    if (v.verdict != "regressed") continue;
+    const auto again = std::find_if(second.series.begin(), second.series.end(),
+                                    [&](const SeriesVerdict& s) { return s.name == v.name; });
+    if (again == second.series.end() || again->verdict != "regressed") v.verdict = "unconfirmed";
+  }
+  first.confirmed = true;
+  settle_verdict(first);
 }
 
 }  // namespace gi

@@ -130,7 +130,8 @@ struct TimingPolicy {
 struct SeriesVerdict {
   std::string name;
   // "unchanged", "regressed", "improved", "too_few_samples", "loaded" (too
-  // few frames left once the loaded ones are out), "new", "missing"
+  // few frames left once the loaded ones are out), "unconfirmed" (regressed,
+  // but not in a second run: confirm_timings), "new", "missing"
   std::string verdict;
   std::size_t baseline_samples = 0, measured_samples = 0;
   double baseline_median = 0.0, measured_median = 0.0;  // in the unit
@@ -160,12 +161,20 @@ struct TimingComparison {
   nlohmann::json load;  // {"baseline": {...}, "run": {...}} where measured (TimingSamples' load)
   double typical_ratio = 0.0;  // the median pass's ratio (0: too few passes to judge relatively)
   std::vector<SeriesVerdict> series;
+  bool confirmed = false;  // confirm_timings ran on it: every "regressed" repeated in a second run
   std::size_t regressions() const;
   nlohmann::json to_json() const;
 };
 
 TimingComparison compare_timings(const TimingSamples& baseline, const TimingSamples& measured,
                                  const TimingPolicy& policy = {});
+
+// A regression confirmed by a second run of the scenario (a process of its
+// own): a series stays "regressed" only when `second` (the same baseline
+// against the second run) says so too; otherwise "unconfirmed", which is not
+// a regression. Rare per-process speed modes do not repeat; a real slowdown
+// does. The scenario's verdict is then recomputed.
+void confirm_timings(TimingComparison& first, const TimingComparison& second);
 
 // The ratio of medians of two sample sets and its central 1 - 2 alpha
 // interval by moving block bootstrap (exposed for its tests).

@@ -75,6 +75,9 @@ TEST(TimingNightly, ASlowedPassIsNamedAndOnlyTheTimingBitIsSet) {
   EXPECT_EQ((*tiles)["verdict"], "regressed") << tiles->dump(1);
   EXPECT_GT((*tiles)["interval"][0].get<double>(), 1.25) << tiles->dump(1);
   EXPECT_EQ((*tiles)["baseline_runs"], 2) << tiles->dump(1);
+  // Flagged, the scenario ran once more, and the slowdown repeated.
+  EXPECT_EQ(row["timing"].value("confirmed_by_second_run", false), true) << row["timing"].dump(1);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "slow/timed_di/timing-confirm/timed_di/summary.json"));
   EXPECT_EQ(summary["verdict"], "timing_regressed");
   EXPECT_NE(test::read_text(dir.path() / "slow/junit.xml").find("timing regressed (--fail-on-timing): light_tiles"),
             std::string::npos);

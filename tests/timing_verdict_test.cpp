@@ -308,6 +308,28 @@ TEST(TimingVerdict, ABaselinesOtherRunsWidenWhatCountsAsASlowdown) {
   }
 }
 
+// A regression a second run does not repeat (a per-process speed mode) is
+// "unconfirmed", not a regression; one it repeats stays.
+TEST(TimingVerdict, ARegressionMustRepeatInASecondRun) {
+  const TimingSamples base = timing_samples(summary_of_run(1, 1.0));
+  const TimingSamples slow = timing_samples(summary_of_run(2, 1.0, 2.0));
+  TimingComparison once = compare_timings(base, slow);
+  ASSERT_EQ(once.verdict, "regressed");
+  confirm_timings(once, compare_timings(base, timing_samples(summary_of_run(3, 1.0))));
+  EXPECT_EQ(series(once, "light_tiles").verdict, "unconfirmed");
+  EXPECT_EQ(once.verdict, "unchanged");
+  EXPECT_EQ(once.regressions(), 0u);
+  EXPECT_EQ(once.to_json()["confirmed_by_second_run"], true);
+  TimingComparison twice = compare_timings(base, slow);
+  confirm_timings(twice, compare_timings(base, timing_samples(summary_of_run(4, 1.0, 2.0))));
+  EXPECT_EQ(series(twice, "light_tiles").verdict, "regressed");
+  EXPECT_EQ(twice.verdict, "regressed");
+  // No second run to be had (it crashed): nothing repeats, nothing is claimed.
+  TimingComparison lost = compare_timings(base, slow);
+  confirm_timings(lost, TimingComparison{});
+  EXPECT_EQ(lost.verdict, "unchanged");
+}
+
 TEST(TimingVerdict, MissingNewShortAndIncomparableSeriesAreSaidNotJudged) {
   const TimingSamples base = samples_in_ms({{"gone", noisy_series(1, 60, 1)}, {"short", {1, 1, 1}}, {"p", noisy_series(1, 60, 2)}});
   const TimingComparison c = compare_timings(

@@ -62,6 +62,8 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
   nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");
   nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
+  nightly_->add_flag("!--no-timing-confirm", nightly_options_.confirm_timing,
+                     "judge timing on one run: no second run of a scenario whose timing regressed");
   nightly_->add_flag("--add-timing-run", nightly_options_.add_timing_run,
                      "add this run's per-pass timing medians to the baselines of scenarios whose bits are unchanged "
                      "(their run-to-run spread; kept: the newest 7)");

@@ -46,6 +46,7 @@ struct NightlyOptions {
   std::filesystem::path junit;    // default <out>/junit.xml
   bool resume = false;            // keep completed scenarios of <out>/summary.json
   bool update_baseline = false;   // write this run's figures as the baseline
+  bool confirm_timing = true;     // a timing regression is confirmed by a second run of the scenario
   bool add_timing_run = false;    // add this run's timing medians to the baselines of bit-unchanged scenarios
   bool fail_on_change = false;    // a scenario whose bits changed against its exact baseline fails (exit 1)
   bool fail_on_timing = false;    // a timing regression sets exit bit 4 (reports/timing_report.h); else it only reports

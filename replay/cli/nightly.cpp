@@ -234,6 +234,30 @@ void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nl
 // tolerance (a regression makes the row fail, exit 1, even when every check
 // passed), then its bits against the exact baseline (reports/change.h; a
 // change fails only under --fail-on-change).
+// A timing regression is confirmed by running the scenario once more, in a
+// process of its own (into <out>/<name>/timing-confirm/): a series stays
+// regressed only if that run regresses it too (reports/timing_verdict.h,
+// confirm_timings). Nothing of the second run but its timing is used.
+void confirm_timing(TimingComparison& timing, const TimingSamples& base, const std::filesystem::path& file,
+                    const std::string& name, const NightlyOptions& o) {
+  NightlyOptions again = o;
+  again.out_dir = o.out_dir / name / "timing-confirm";
+  std::filesystem::create_directories(again.out_dir);
+  nlohmann::json row = {{"file", file.string()}};
+  run_isolated(file, again, row);
+  TimingComparison second;  // not compared: no second run, so nothing repeats
+  if (row.contains("summary")) {
+    try {
+      second = compare_timings(base, timing_samples(read_json_input(again.out_dir / row["summary"].get<std::string>(),
+                                                                    "the confirmation run's summary.json")));
+    } catch (const InputError& e) {
+      spdlog::warn("{}: the timing confirmation run left no readable summary: {}", name, e.what());
+    }
+  }
+  confirm_timings(timing, second);
+  spdlog::info("{}: timing regression {} by a second run", name, timing.verdict == "regressed" ? "confirmed" : "not confirmed");
+}
+
 void compare_row(const nlohmann::json& summary, const std::filesystem::path& class_dir, const NightlyOptions& o,
                  nlohmann::json& row) {
   const std::string name = summary["scenario"]["name"];
@@ -258,7 +282,11 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
   const TimingSamples base = doc->contains("timing_samples")
                                  ? TimingSamples::from_json((*doc)["timing_samples"], baseline_file(class_dir, name).string())
                                  : TimingSamples{};
-  if (!measured.series.empty() || !base.series.empty()) row["timing"] = compare_timings(base, measured).to_json();
+  if (!measured.series.empty() || !base.series.empty()) {
+    TimingComparison timing = compare_timings(base, measured);
+    if (timing.verdict == "regressed" && o.confirm_timing) confirm_timing(timing, base, row["file"].get<std::string>(), name, o);
+    row["timing"] = timing.to_json();
+  }
   const ScenarioFigures baseline = baseline_figures(*doc, baseline_file(class_dir, name));
   const BaselineComparison cmp = compare_to_baseline(baseline, extract_figures(summary), load_tolerance_rules(class_dir));
   row["baseline_status"] = "compared";

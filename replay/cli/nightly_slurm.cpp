@@ -62,7 +62,8 @@ SlurmJobSpec spec_of(const NightlyOptions& o) {
   s.warn_seconds = so.warn_seconds;
   s.max_requeues = so.max_requeues;
   if (o.fail_on_change) s.nightly_args.push_back("--fail-on-change");
-  if (o.add_timing_run) s.nightly_args.push_back("--add-timing-run");  // one scenario's file per task: no two write one
+  if (o.add_timing_run) s.nightly_args.push_back("--add-timing-run");
+  if (!o.confirm_timing) s.nightly_args.push_back("--no-timing-confirm");  // one scenario's file per task: no two write one
   // Timing is judged per shard and made fatal by the merge, which copies the flag from the shards.
   if (o.fail_on_timing) s.nightly_args.push_back("--fail-on-timing");
   // One history entry per night: the merged night's, not each shard's.
