@@ -309,7 +309,8 @@ TimingComparison compare_timings(const TimingSamples& base, const TimingSamples&
   auto loaded = [&](const TimingSamples& t) { return t.loaded(policy.min_samples); };
   auto load_reason = [](const char* side, const TimingSamples& t) {
     return fmt::format("the machine was loaded during the {}: {} of its {} timed frames waited for a CPU more than "
-                       "{:.0f} % of the CPU time they wanted (median {:.0f} %)",
+                       "{:.0f} % of the CPU time they wanted (median {:.0f} %; another job, or more of this "
+                       "process's threads than CPUs)",
                        side, t.loaded_frames, t.frames, 100 * kMaxFrameWaitShare, 100 * t.median_wait_share);
   };
   if (loaded(run) || loaded(base)) {

@@ -107,8 +107,11 @@ struct TimingSamples {
   double median_wait_share = 0.0;
 
   RunMedians medians() const;  // this run's
-  // Too few frames left once the loaded ones are out.
-  bool loaded(std::size_t min_samples) const { return loaded_frames > 0 && frames - loaded_frames < min_samples; }
+  // Too few frames left once the loaded ones are out (a run too short to
+  // judge anyway is not said to be loaded).
+  bool loaded(std::size_t min_samples) const {
+    return loaded_frames > 0 && frames >= min_samples && frames - loaded_frames < min_samples;
+  }
   nlohmann::json to_json() const;
   // InputError naming `file` and the JSON path when malformed.
   static TimingSamples from_json(const nlohmann::json& j, const std::string& file);
