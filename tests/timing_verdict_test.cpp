@@ -42,6 +42,16 @@ TimingSamples samples_in_ms(std::map<std::string, std::vector<double>> series) {
   return t;
 }
 
+// Malformed baseline samples: an InputError that names the JSON path.
+void expect_bad_samples(const nlohmann::json& bad, const std::string& path) {
+  try {
+    TimingSamples::from_json(bad, "b.json");
+    FAIL() << "malformed samples were read (" << path << ")";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
 const SeriesVerdict& series(const TimingComparison& c, const std::string& name) {
   for (const SeriesVerdict& s : c.series)
     if (s.name == name) return s;
@@ -265,12 +275,7 @@ TEST(TimingVerdict, TheLoadTravelsWithTheBaselineAndIsChecked) {
   EXPECT_NEAR(back.median_wait_share, t.median_wait_share, 1e-6);
   nlohmann::json bad = t.to_json();
   bad["load"]["frames"] = "many";
-  try {
-    TimingSamples::from_json(bad, "b.json");
-    FAIL() << "a malformed load was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/timing_samples/load"), std::string::npos) << e.what();
-  }
+  expect_bad_samples(bad, "/timing_samples/load");
 }
 
 // A pass that runs at a speed of its own in each process (measured: an
@@ -300,12 +305,7 @@ TEST(TimingVerdict, ABaselinesOtherRunsWidenWhatCountsAsASlowdown) {
   EXPECT_NEAR(back.median_ms.at("light_tiles"), base.median_ms.at("light_tiles"), 1e-3);
   nlohmann::json bad = base.to_json();
   bad["other_runs"][1]["median_ms"]["light_tiles"] = -1;
-  try {
-    TimingSamples::from_json(bad, "b.json");
-    FAIL() << "a negative median was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/timing_samples/other_runs/1/median_ms/light_tiles"), std::string::npos) << e.what();
-  }
+  expect_bad_samples(bad, "/timing_samples/other_runs/1/median_ms/light_tiles");
 }
 
 // A regression a second run does not repeat (a per-process speed mode) is
@@ -354,12 +354,7 @@ TEST(TimingVerdict, BaselineSamplesRoundTripAndBadOnesNameTheirPath) {
   EXPECT_NEAR(back.series.at("light_tiles")[3], t.series.at("light_tiles")[3], 1e-3 * t.series.at("light_tiles")[3]);  // four digits kept
   nlohmann::json bad = t.to_json();
   bad["series"]["light_tiles"][2] = "fast";
-  try {
-    TimingSamples::from_json(bad, "b.json");
-    FAIL() << "accepted a string sample";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/timing_samples/series/light_tiles/2"), std::string::npos) << e.what();
-  }
+  expect_bad_samples(bad, "/timing_samples/series/light_tiles/2");
 }
 
 // Timing is its own verdict: a regressed timing leaves the row's verdict and
