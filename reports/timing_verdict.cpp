@@ -184,6 +184,13 @@ TimingSamples timing_samples(const nlohmann::json& s) {
   out.frames = timed.size();
   out.load_measured = !wait_shares.empty();
   out.median_wait_share = out.load_measured ? median_of(wait_shares) : 0.0;
+  // The unit is the run's, loaded frames or not: a run loaded all along is
+  // "loaded", not "in another unit".
+  auto has_calibration = [](const nlohmann::json* f) {
+    const nlohmann::json c = f->value("calibration_ms", nlohmann::json());
+    return c.is_number() && c.get<double>() > 0;
+  };
+  if (!timed.empty() && std::all_of(timed.begin(), timed.end(), has_calibration)) out.unit = "calibration";
   if (kept.empty()) return out;
 
   std::vector<double> calibration;

@@ -48,12 +48,18 @@ TEST(TimingNightly, ASlowedPassIsNamedAndOnlyTheTimingBitIsSet) {
   // on the machine) more than kMaxFrameWaitShare of the time it wanted one.
   const nlohmann::json& load = baseline["timing_samples"]["load"];
   EXPECT_EQ(load["frames"], 39) << load.dump();
+  // ctest runs this test alone (tests/CMakeLists.txt); a machine loaded by
+  // something else cannot judge timing, and the nightly says so: skipped then.
+  if (39 - load["loaded_frames"].get<int>() < 8) GTEST_SKIP() << "the machine is loaded: " << load.dump();
   EXPECT_EQ(baseline["timing_samples"]["series"]["light_tiles"].size(), 39u - load["loaded_frames"].get<std::size_t>());
 
   // A second run of the unchanged tree adds its medians to the baseline:
   // the run-to-run spread the verdict allows for.
   const test::CommandResult again = nightly("again", "--add-timing-run", "");
   ASSERT_EQ(again.exit_code, 0) << again.output;
+  const nlohmann::json again_timing = test::read_json(dir.path() / "again/summary.json")["scenarios"][0]["timing"];
+  if (again_timing.value("reason", "").find("loaded") != std::string::npos)
+    GTEST_SKIP() << "the machine is loaded: " << again_timing["reason"];
   EXPECT_EQ(test::read_json(dir.path() / "again/summary.json")["scenarios"][0].value("timing_run_added", false), true)
       << again.output;
   const nlohmann::json runs = test::read_json(class_dir / "timed_di.json")["timing_samples"]["other_runs"];

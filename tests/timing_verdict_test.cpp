@@ -238,6 +238,7 @@ TEST(TimingVerdict, AMachineLoadedAllRunIsNotJudgedAndSaysHowLoaded) {
   EXPECT_EQ(compare_timings(base, timing_samples(unmeasured)).verdict, "regressed");
   // ... with it, the run is not judged, and the reason gives the figures.
   const TimingSamples run = timing_samples(loaded);
+  EXPECT_EQ(run.unit, "calibration");  // no frame kept, and still the run's unit
   EXPECT_EQ(run.frames, 59u);
   EXPECT_EQ(run.loaded_frames, 59u);
   const TimingComparison c = compare_timings(base, run);
