@@ -19,4 +19,16 @@ struct Image {
   std::size_t size() const { return pixels.size(); }
 };
 
+// a + b and a − b, pixel by pixel (same size).
+inline Image sum_images(const Image& a, const Image& b) {
+  Image s = a;
+  for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] += b.pixels[i];
+  return s;
+}
+inline Image difference_images(const Image& a, const Image& b) {
+  Image d = a;
+  for (std::size_t i = 0; i < d.pixels.size(); ++i) d.pixels[i] -= b.pixels[i];
+  return d;
+}
+
 }  // namespace gi

@@ -12,20 +12,12 @@
 #include "replay/capture.h"
 #include "replay/events.h"
 #include "replay/resource_limits.h"
+#include "replay/signal_figures.h"
 #include "replay/test_faults.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 
 namespace gi {
-namespace {
-
-Image sum_images(const Image& a, const Image& b) {
-  Image s = a;
-  for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] += b.pixels[i];
-  return s;
-}
-
-}  // namespace
 
 FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device)
     : scenario_(scenario), options_(options), setup_(setup), device_(device), compiler_(cache_root()),
@@ -331,7 +323,20 @@ nlohmann::json FrameLoop::chain_noise_figures(std::uint32_t frame) const {
   }
   nlohmann::json signals = nlohmann::json::object();
   for (const auto& [name, image] : a) signals[name] = json_figure(chain_noise(image, b.at(name), mean));
+  nlohmann::json additivity = nullptr;
+  if (setup_.gi) {
+    const NoiseAdditivity add = chain_noise_additivity({a["di"], a["gi"], a["specular"]},
+                                                       {b["di"], b["gi"], b["specular"]}, mean);
+    additivity = {{"output", json_figure(add.output)},
+                  {"sum_of_signals", json_figure(add.sum_of_signals)},
+                  {"cross_term", json_figure(add.cross_term)},
+                  {"cross_term_standard_error", json_figure(add.cross_term_standard_error)},
+                  {"method", "output = sum of the signals' figures + the cross term mean((sum of the signals' "
+                             "A - B products over pairs) / (m^2 + 0.01)); standard error from its 8x8-pixel "
+                             "block means"}};
+  }
   return nlohmann::json{{"frame", frame},
+                        {"additivity", additivity},
                         {"method", "per-frame relMSE of one chain against its expectation: mean over pixels and "
                                    "channels of (A - B)^2 / 2 / (m^2 + 0.01), A and B the two chains' signal at "
                                    "this frame, m the temporal mean of the output (both chains)"},

@@ -35,6 +35,7 @@ class FrameLoop {
   std::uint32_t first_frame() const { return first_frame_; }
   const Image& last_output() const { return output_; }  // after run(): the last frame's
   const gpu::Renderer& renderer() const { return *renderer_; }
+  gpu::ShaderCompiler& compiler() { return compiler_; }
   std::size_t light_count() const { return flat_.lights.size(); }
   FrameLog& frame_log() { return frame_log_; }
   bool hash_log_written() const { return hash_log_.has_value(); }

@@ -34,6 +34,10 @@ struct RunOptions {
   bool record_hashes = false;
   // Nightly: capture the first failing frame of each failing check (replay/failure_capture.h).
   bool capture_failures = false;
+  // summary.json "equal_time": the realtime output beside the GPU and Embree
+  // path tracers at its ms/frame (replay/equal_time.h) and its per-signal
+  // figures (replay/signal_figures.h), at the last frame the reference check judged.
+  bool equal_time = false;
 };
 
 struct RunResult {

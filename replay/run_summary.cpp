@@ -9,6 +9,11 @@
 #include "replay/capture.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
+#include "replay/equal_time.h"
+#include "replay/events.h"
+#include "core/reference/reference_cache.h"
+#include "core/cache_root.h"
+#include "replay/signal_figures.h"
 
 namespace gi {
 namespace {
@@ -55,6 +60,79 @@ void add_frames(FrameLog& log, const std::vector<double>& frame_wall_ms, nlohman
   s["frames_log"] = {{"file", "frames.jsonl"}, {"records", log.count()}, {"kept_every", log.stride()}};
 }
 
+// DI, GI and specular each: per-frame noise (the chains), bias against the
+// Embree reference of the same quantity (replay/signal_figures.h) over the
+// window that ends at the run's last frame, and ms.
+nlohmann::json per_signal_figures(const RunFacts& run, const nlohmann::json& s, const Scene& scene,
+                                  const ReferenceOptions& options, const ReferenceResult& reference) {
+  const gpu::Renderer& r = run.loop.renderer();
+  const nlohmann::json noise = s.value("noise", nlohmann::json::object());
+  const nlohmann::json ms = signal_ms(s["timings"]);
+  auto noise_of = [&](const char* kind, const std::string& signal) {
+    const nlohmann::json k = noise.is_object() ? noise.value(kind, nlohmann::json(nullptr)) : nlohmann::json(nullptr);
+    return k.is_object() && k.contains("signals") ? k["signals"].value(signal, nlohmann::json(nullptr))
+                                                 : nlohmann::json(nullptr);
+  };
+  nlohmann::json out = nlohmann::json::object();
+  for (const char* signal : {"di", "gi", "specular"}) {
+    if (!run.setup.gi && std::string(signal) != "di") continue;
+    out[signal] = {{"noise_chain", noise_of("chain", signal)},
+                   {"noise_temporal", noise_of("temporal", signal)},
+                   {"ms", ms.value(signal, nlohmann::json(nullptr))},
+                   {"bias", nullptr}};
+  }
+  out["shared_ms"] = ms.value("shared", nlohmann::json(nullptr));
+  // The DI reference: the check's own without GI, else Embree's direct mode.
+  ReferenceOptions direct_options = options;
+  direct_options.direct_only = true;
+  const ReferenceResult direct =
+      options.direct_only ? reference : cached_reference(scene, direct_options, cache_root() / "reference");
+  const ChainMeans di{r.di().mean(0), r.di().mean(1)};
+  out["di"]["bias"] = signal_bias(di, direct.mean, direct.half_a, direct.half_b);
+  if (run.setup.gi) {
+    const ReferenceResult indirect = indirect_reference(reference, direct);
+    ChainMeans both{sum_images(r.gi().gi_mean(0), r.gi().specular_mean(0)),
+                    sum_images(r.gi().gi_mean(1), r.gi().specular_mean(1))};
+    out["indirect"] = {{"signals", {"gi", "specular"}},
+                       {"bias", signal_bias(both, indirect.mean, indirect.half_a, indirect.half_b)},
+                       {"reference", "Embree full minus Embree direct, halves minus halves"}};
+  }
+  return out;
+}
+
+// The realtime output's last frame judged by the `reference` check beside the
+// equal-time path tracers (replay/equal_time.h), with its reference (cached by
+// the check) and the scene of that frame; null without such a frame.
+nlohmann::json run_equal_time(const RunFacts& run, const nlohmann::json& s, const std::vector<CheckResult>& checks) {
+  const RunSetup& setup = run.setup;
+  for (const CheckResult& c : checks) {
+    if (c.name != "reference" || !c.figures.contains("frames") || c.figures["frames"].empty()) continue;
+    const nlohmann::json& last = c.figures["frames"].back();
+    if (!last.contains("per_frame") || !last.contains("temporal_mean")) continue;
+    const std::uint32_t frame = last["frame"].get<std::uint32_t>();
+    const Scene scene = scene_at_frame(setup.initial, run.scenario, frame);
+    EqualTimeTarget t;
+    t.scene = &scene;
+    t.reference_options.width = setup.width;
+    t.reference_options.height = setup.height;
+    t.reference_options.spp = c.limits["reference_spp"].get<std::uint32_t>();
+    t.reference_options.seed = setup.seed;
+    t.reference_options.direct_only = !setup.gi;
+    const ReferenceResult reference = cached_reference(scene, t.reference_options, cache_root() / "reference");
+    t.reference = &reference;
+    t.realtime.ms_per_frame = pipeline_ms_per_frame(s["timings"]);
+    t.realtime.frame_relmse = last["per_frame"]["relmse"].get<double>();
+    t.realtime.temporal_relmse = last["temporal_mean"]["relmse"].get<double>();
+    t.realtime.window_frames = last["window_frames"].get<std::uint32_t>();
+    nlohmann::json out = equal_time_figures(&run.device, &run.loop.compiler(), t);
+    out["frame"] = frame;
+    // The signals' temporal means are the window's that ends at the run's last frame.
+    if (frame + 1 == setup.frames) out["signals"] = per_signal_figures(run, s, scene, t.reference_options, reference);
+    return out;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captures, RunResult& result) {
@@ -99,6 +177,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   write_exr(run.options.out_dir / kFinalImageFile, {{"", &last}}, ExrPixels::half);
   s["final_image"] = kFinalImageFile;
   s["noise"] = run.loop.noise();
+  if (run.options.equal_time && setup.realtime) s["equal_time"] = run_equal_time(run, s, result.checks);
   if (setup.renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.
     const gpu::WorldCache& cache = run.loop.renderer().world_cache();

@@ -16,7 +16,7 @@ struct RunFacts {
   const RunOptions& options;
   const RunSetup& setup;
   FrameLoop& loop;
-  const gpu::Device& device;
+  gpu::Device& device;
   std::chrono::steady_clock::time_point started;
 };
 

@@ -1,4 +1,5 @@
 #include "reports/nightly_report.h"
+#include "reports/speed_error_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,16 +26,6 @@ std::string anchor(const std::string& name) {
 }
 
 double number_or_nan(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : std::nan(""); }
-
-// The last compared frame's relMSE of the reference check, NaN without one.
-double last_relmse(const nlohmann::json& summary) {
-  for (const nlohmann::json& c : summary.value("checks", nlohmann::json::array()))
-    if (c.value("name", "") == "reference") {
-      const nlohmann::json frames = c["figures"].value("frames", nlohmann::json::array());
-      if (!frames.empty()) return number_or_nan(frames.back().value("relmse", nlohmann::json()));
-    }
-  return std::nan("");
-}
 
 // One plot per numeric per-frame key, one plot per nested object (pass_ms:
 // a line per pass), and the reference check's compared frames.
@@ -282,8 +273,6 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   };
   std::vector<Page> pages;
   std::vector<Plot> plots;
-  Plot scatter{"speed against error (last compared frame of the reference check)", "GPU ms/frame (sum of passes)",
-               "relMSE against Embree", true, true, {}};
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
     Page page{row, nlohmann::json::object()};
     if (row.contains("summary")) {
@@ -299,13 +288,14 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
       page.first_plot = plots.size();
       page.plot_count = mine.size();
       plots.insert(plots.end(), mine.begin(), mine.end());
-      const double ms = number_or_nan(page.summary.value("timings", nlohmann::json::object()).value("total_mean_ms", nlohmann::json()));
-      scatter.series.push_back({name, {{ms, last_relmse(page.summary)}}, {name}, false});
     }
     pages.push_back(page);
   }
+  std::vector<NamedSummary> runs;
+  for (const Page& p : pages)
+    if (p.summary.is_object() && !p.summary.empty()) runs.push_back({p.row.value("name", p.row.value("file", "?")), &p.summary});
   const std::size_t scatter_id = plots.size();
-  plots.push_back(scatter);
+  plots.push_back(speed_against_error_plot(runs));
   const nlohmann::json history = suite.value("timing_history", nlohmann::json::array());
   const std::size_t trend_id = plots.size();
   if (!history.empty()) plots.push_back(timing_trend_plot(history, timing_history_entry(suite, "tonight")));
@@ -362,7 +352,8 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   body += "<h2>Figures against the baseline's tolerances</h2>\n";
   body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
                                   : html_table(kRegressionHeader, all_regressions, "regressions");
-  body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error");
+  body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error") +
+          speed_against_error_tables(runs);
   const nlohmann::json timing = suite.value("timing", nlohmann::json::object());
   body += fmt::format("<h2>Timing against the baseline</h2>\n<p class=\"small\">{} scenarios regressed, {} improved, "
                       "{} unchanged, {} not compared ({} of them because the machine was loaded); {}</p>\n",

@@ -1,6 +1,7 @@
 #include "reports/summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "reports/json_figures.h"
@@ -31,6 +32,17 @@ nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& 
                     {"max_ms", json_figure(*std::max_element(ms.begin(), ms.end()))}};
   }
   return {{"passes", passes}, {"total_mean_ms", json_figure(total)}};
+}
+
+double pipeline_ms_per_frame(const nlohmann::json& timings) {
+  if (!timings.is_object() || !timings.contains("passes") || timings["passes"].empty()) return std::nan("");
+  double ms = 0;
+  for (const auto& [pass, stats] : timings["passes"].items()) {
+    if (observation_pass(pass)) continue;
+    ms += stats.contains("median_ms") && stats["median_ms"].is_number() ? stats["median_ms"].get<double>()
+                                                                         : std::nan("");
+  }
+  return ms;
 }
 
 nlohmann::json build_info() {

@@ -17,6 +17,11 @@ double percentile(std::vector<double> v, double p);
 // pipeline's per-frame total.
 inline bool observation_pass(const std::string& name) { return name == "frame_output" || name == "state_hash"; }
 
+// The pipeline's ms/frame from a summary's "timings": the sum of its
+// passes' median ms, the observation passes left out (the pipeline a user
+// ships does not run them); NaN without timings.
+double pipeline_ms_per_frame(const nlohmann::json& timings);
+
 // Per pass: frames, mean, median, p95, min, max (ms), plus the total of the
 // means (ms/frame of the recorded passes).
 nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms);

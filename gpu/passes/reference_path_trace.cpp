@@ -23,6 +23,7 @@ ComputePass make_pass(Device& device, ShaderCompiler& compiler, const ReferenceP
   if (options.background != glm::vec3(0.0f))
     defines.push_back({"REFERENCE_BACKGROUND", fmt::format("vec3({:.9g},{:.9g},{:.9g})", options.background.x,
                                                            options.background.y, options.background.z)});
+  if (options.direct_only) defines.push_back({"REFERENCE_DIRECT_ONLY", "1"});
   return ComputePass(device, "reference_path_trace", compiler.compile_file(ReferencePathTrace::kShader, defines).spirv,
                      std::move(bindings));
 }

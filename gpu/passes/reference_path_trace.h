@@ -17,6 +17,7 @@ class ShaderCompiler;
 struct ReferencePathTraceOptions {
   std::uint32_t max_bounces = 32;  // path length cap, as in the Embree reference (compiled in)
   glm::vec3 background{0.0f};      // added where the camera ray misses (Scene::background)
+  bool direct_only = false;        // "DI" alone, as the Embree reference's direct-lighting mode
 };
 
 class ReferencePathTrace {

@@ -5,10 +5,16 @@
 // the nonfinite buffer and contributes nothing (never dropped silently).
 //
 // Defines: REFERENCE_MAX_BOUNCES (path length cap, shared with the Embree
-// reference); REFERENCE_BACKGROUND (vec3, Scene::background), if not black.
+// reference); REFERENCE_BACKGROUND (vec3, Scene::background), if not black;
+// REFERENCE_DIRECT_ONLY: "DI" alone (core/shared/direct_integrator.h, the
+// Embree reference's direct-lighting mode), the path tracer a DI-only
+// realtime output is compared with at equal time (replay/equal_time.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
+#ifdef REFERENCE_DIRECT_ONLY
+#include "core/shared/direct_integrator.h"
+#endif
 
 #ifndef REFERENCE_MAX_BOUNCES
 #error "REFERENCE_MAX_BOUNCES must be defined (gpu/passes/reference_path_trace.cpp)"
@@ -42,7 +48,11 @@ void main() {
   for (uint s = 0u; s < frame.counts.z; ++s) {
     uint sample_index = frame.counts.w + s;
     uint rng = rng_seed(seed, RNG_DOMAIN_GPU_REFERENCE, index, sample_index);
+#ifdef REFERENCE_DIRECT_ONLY
+    vec3 radiance = direct_trace(origin, dir, rng) + background;
+#else
     vec3 radiance = path_trace(origin, dir, rng, uint(REFERENCE_MAX_BOUNCES)) + background;
+#endif
     if (any(isnan(radiance)) || any(isinf(radiance))) {
       ++bad;
       radiance = vec3(0.0);  // the sample still counts: dropping it would bias the mean up

@@ -42,6 +42,9 @@ void Commands::add_to(CLI::App& app) {
   run_->add_option("--out", run_options_.out_dir, "output directory")->capture_default_str();
   run_->add_option("--profile", run_options_.profile, "profile name (scenarios/profiles) or file, instead of the scenario's");
   run_->add_option("--set", run_options_.sets, "override one profile value, key=value (repeatable)");
+  run_->add_flag("--equal-time", run_options_.equal_time,
+                 "summary.json \"equal_time\": the GPU and Embree path tracers at the realtime output's ms/frame, "
+                 "and the per-signal noise, bias and ms (realtime runs with a reference check)");
   run_->add_flag("--hash-log", run_options_.record_hashes,
                  "hash every state buffer each frame into buffer_hashes.jsonl (on the GPU), as determinism does");
 

@@ -1,11 +1,12 @@
 // `giharness sweep SCENARIO --vary key=v1,v2,… [--vary …] --out DIR`
 // (DESIGN §10, §12): runs every point of the cartesian product, measures each
 // point's GPU ms/frame (sum of its passes' median timestamps) and the relMSE of its
-// last frame against a converged Embree reference, and puts the Embree path
-// tracer given the same wall time per frame in the same table and plot:
-// Embree's time per sample is measured on this machine (two renders, a fixed
-// part and a per-sample part), the spp that fits the point's ms/frame is
-// rendered on fresh sample indices and compared to the same reference.
+// last frame against a converged Embree reference, and puts the path tracers
+// given the same time per frame in the same table and plot
+// (replay/equal_time.h): the GPU path tracer on the same device (realtime
+// points) and Embree on the CPU, each at the spp that fits the point's
+// ms/frame by its measured cost, on fresh sample indices, against the same
+// reference, with the time each needs to reach the point's error.
 // Writes <out>/sweep.json and <out>/report.html; exit 0 unless a point
 // cannot run (2 bad input, 3 device).
 #include <cmath>
@@ -30,6 +31,11 @@
 #include "replay/cli/commands.h"
 #include "replay/events.h"
 #include "replay/cli/sweep_plan.h"
+#include "replay/equal_time.h"
+#include "replay/signal_figures.h"
+#include "gpu/device.h"
+#include "gpu/shader_compiler.h"
+#include "core/cache_root.h"
 #include "reports/gnuplot.h"
 #include "reports/html_page.h"
 #include "reports/json_figures.h"
@@ -37,31 +43,6 @@
 
 namespace gi {
 namespace {
-
-constexpr std::uint32_t kCalibrationSpp = 16;
-constexpr int kCalibrationRepeats = 3;
-
-struct EmbreeCost {
-  double fixed_s = 0, per_spp_s = 0;  // seconds = fixed + spp × per_spp
-};
-
-// Renders at 1 and kCalibrationSpp spp separate the per-render cost (flatten,
-// BVH build) from the per-sample cost; the fastest of a few repeats, because
-// on a shared machine a render is only ever slowed down, never sped up.
-EmbreeCost calibrate_embree(const Scene& scene, ReferenceOptions options) {
-  double t1 = 1e30, tn = 1e30;
-  for (int r = 0; r < kCalibrationRepeats; ++r) {
-    options.spp = 1;
-    t1 = std::min(t1, render_reference(scene, options).seconds);
-    options.spp = kCalibrationSpp;
-    tn = std::min(tn, render_reference(scene, options).seconds);
-  }
-  EmbreeCost c;
-  c.per_spp_s = (tn - t1) / double(kCalibrationSpp - 1);
-  c.fixed_s = t1 - c.per_spp_s;
-  if (c.per_spp_s <= 0 || c.fixed_s < 0) c = {0.0, tn / double(kCalibrationSpp)};  // timer noise: all per sample
-  return c;
-}
 
 std::string table_number(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "&ndash;"; }
 
@@ -80,24 +61,40 @@ std::string noise_cell(const nlohmann::json& row) {
   return cell.empty() ? "&ndash;" : cell;
 }
 
+std::string row_figure(const nlohmann::json& row, const char* key) {
+  return row.contains(key) && row[key].is_number() ? table_number(row[key].get<double>()) : "&ndash;";
+}
+
+// "di 1.2, gi 3.4, …" from a GPU row's ms per signal.
+std::string signal_ms_cell(const nlohmann::json& row) {
+  std::string cell;
+  for (const auto& [signal, v] : row.value("signal_ms", nlohmann::json::object()).items())
+    cell += (cell.empty() ? "" : ", ") + signal + " " + table_number(v.is_number() ? v.get<double>() : std::nan(""));
+  return cell.empty() ? "&ndash;" : cell;
+}
+
 void write_sweep_report(const std::filesystem::path& out_dir, const nlohmann::json& sweep) {
-  PlotSeries gpu{"GPU pipeline", {}, {}, false}, embree{"Embree at equal time", {}, {}, false};
+  PlotSeries gpu{"realtime pipeline", {}, {}, false}, gpu_pt{"GPU path tracer at equal time", {}, {}, false},
+      embree{"Embree at equal time", {}, {}, false};
   std::vector<std::vector<std::string>> rows;
   for (const nlohmann::json& r : sweep["rows"]) {
     const double ms = r["ms_per_frame"].is_number() ? r["ms_per_frame"].get<double>() : std::nan("");
     const double err = r["relmse"].is_number() ? r["relmse"].get<double>() : std::nan("");
-    const bool is_gpu = r["kind"] == "gpu";
-    (is_gpu ? gpu : embree).points.emplace_back(ms, err);
-    (is_gpu ? gpu : embree).labels.push_back(is_gpu ? r["label"].get<std::string>() : fmt::format("{} spp", r["spp"].get<unsigned>()));
-    rows.push_back({is_gpu ? "GPU" : "Embree (equal time)", html_escape(r["label"].get<std::string>()),
-                    table_number(ms), table_number(err),
-                    r.contains("spp") ? r["spp"].dump() : "&ndash;",
-                    r.contains("embree_over_gpu_relmse") ? table_number(r["embree_over_gpu_relmse"].is_number() ? r["embree_over_gpu_relmse"].get<double>() : std::nan("")) : "&ndash;",
+    const std::string kind = r["kind"];
+    const bool is_gpu = kind == "gpu";
+    PlotSeries& series = is_gpu ? gpu : kind == "gpu_path_tracer_equal_time" ? gpu_pt : embree;
+    series.points.emplace_back(ms, err);
+    series.labels.push_back(is_gpu ? r["label"].get<std::string>() : fmt::format("{} spp", r["spp"].get<unsigned>()));
+    const std::string renderer = is_gpu ? "GPU" : kind == "gpu_path_tracer_equal_time" ? "GPU path tracer (equal time)"
+                                                                                        : "Embree (equal time)";
+    rows.push_back({renderer, html_escape(r["label"].get<std::string>()), table_number(ms), table_number(err),
+                    r.contains("spp") ? r["spp"].dump() : "&ndash;", row_figure(r, "embree_over_gpu_relmse"),
+                    row_figure(r, "equal_error_time_ratio_frame"), is_gpu ? signal_ms_cell(r) : "&ndash;",
                     noise_cell(r),
                     "<a href=\"" + html_escape(r.value("summary", "")) + "\">" + html_escape(r.value("summary", "")) + "</a>"});
   }
   Plot plot{"error against time per frame", "ms/frame", "relMSE against the converged reference", true, true,
-            {gpu, embree}};
+            {gpu, gpu_pt, embree}};
   const std::vector<PlotResult> drawn = render_plots({plot}, out_dir / "plots");
   std::string body = "<h1>giharness sweep: " + html_escape(sweep["scenario"].get<std::string>()) + "</h1>\n";
   body += "<p>" + html_escape(sweep["method"].get<std::string>()) + "</p>\n";
@@ -107,7 +104,8 @@ void write_sweep_report(const std::filesystem::path& out_dir, const nlohmann::js
     references.insert(r.dump());
   }
   for (const std::string& r : references) body += "<p class=\"small\">converged reference: " + html_escape(r) + "</p>\n";
-  body += html_table({"renderer", "point", "ms/frame", "relMSE", "Embree spp", "Embree relMSE / GPU relMSE",
+  body += html_table({"renderer", "point", "ms/frame", "relMSE", "spp", "Embree relMSE / GPU relMSE",
+                      "equal-error time ratio (peer time to the point's error / the point's ms)", "ms per signal",
                       "per-frame noise (sweep --noise)", "summary"},
                      rows);
   body += html_plot(drawn[0], "error against time per frame");
@@ -144,13 +142,17 @@ int run_sweep(const SweepOptions& o) {
                           {"vary", o.vary},
                           {"build", build_info()},
                           {"method",
-                           "GPU: ms/frame = sum of the passes' median timestamps; relMSE of the last frame against a "
-                           "converged Embree reference. Embree at equal time: the samples per pixel that fit the "
-                           "GPU's ms/frame at Embree's measured time per sample (plus its per-render cost), on "
-                           "sample indices the reference did not use, against the same reference."},
+                           "GPU: ms/frame = sum of the pipeline passes' median timestamps (observation passes left "
+                           "out); relMSE of the last frame against a converged Embree reference. Path tracers at "
+                           "equal time (the GPU one on the same device for realtime points, and Embree): the "
+                           "samples per pixel that fit the GPU's ms/frame at the tracer's measured cost (a "
+                           "per-render and a per-sample part), on sample indices the reference did not use, "
+                           "against the same reference; the equal-error time ratio is the time the tracer needs "
+                           "for the point's relMSE over the point's ms/frame (replay/equal_time.h)."},
                           {"rows", nlohmann::json::array()}};
   nlohmann::json references = nlohmann::json::array();
-  std::map<std::uint64_t, EmbreeCost> calibrations;
+  std::optional<gpu::Device> peer_device;  // the GPU path tracer's: the device the points ran on
+  std::optional<gpu::ShaderCompiler> peer_compiler;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& p = points[i];
     const Scenario& s = scenarios[i];
@@ -165,9 +167,7 @@ int run_sweep(const SweepOptions& o) {
     const nlohmann::json& timings = run.summary["timings"];
     // Sum of the passes' medians: lavapipe compiles a pipeline at its first
     // dispatch, and that one frame would dominate a mean of a short run.
-    double ms = 0;
-    for (const auto& [pass, stats] : timings["passes"].items())
-      ms += stats["median_ms"].is_number() ? stats["median_ms"].get<double>() : std::nan("");
+    const double ms = pipeline_ms_per_frame(timings);
     const Image gpu_image = read_exr(ro.out_dir / capture_images_file(last)).at("");
 
     Scene initial = build_scene(s);
@@ -190,20 +190,23 @@ int run_sweep(const SweepOptions& o) {
                           {"cached", hit}, {"seconds", json_figure(reference.seconds)}});
     const double gpu_relmse = relmse(gpu_image, reference.mean);
 
-    ReferenceOptions eq = ref_options;
-    eq.first_sample = reference_spp;  // samples the reference did not use
-    // One calibration per scene state and resolution (keyed with spp 0, so
-    // every point of one scene shares it).
-    ReferenceOptions key_options = eq;
-    key_options.spp = 0;
-    const std::uint64_t key = reference_cache_key(scene, key_options);
-    if (!calibrations.count(key)) calibrations[key] = calibrate_embree(scene, eq);
-    const EmbreeCost cost = calibrations.at(key);
-    const double budget_s = ms / 1000.0;
-    eq.spp = static_cast<std::uint32_t>(std::clamp(std::floor((budget_s - cost.fixed_s) / cost.per_spp_s), 1.0, 65536.0));
-    const ReferenceResult embree = render_reference(scene, eq);
-    const double embree_relmse = relmse(embree.mean, reference.mean);
-
+    // The peers at this point's ms/frame: the GPU path tracer on the sweep's
+    // device (realtime points: a reference-mode point is that tracer itself)
+    // and Embree.
+    EqualTimeTarget target;
+    target.scene = &scene;
+    target.reference_options = ref_options;
+    target.reference = &reference;
+    target.realtime = {ms, gpu_relmse, std::nan(""), 0};
+    const bool realtime = s.mode == RenderMode::Realtime;
+    if (realtime && !peer_device) {
+      peer_device.emplace(o.device, gpu::BackendRequest::automatic);
+      peer_compiler.emplace(cache_root());
+    }
+    const nlohmann::json peers = equal_time_figures(realtime ? &*peer_device : nullptr,
+                                                    realtime ? &*peer_compiler : nullptr, target);
+    const nlohmann::json& embree = peers["embree"];
+    const double embree_relmse = embree["relmse"].get<double>();
     sweep["rows"].push_back({{"kind", "gpu"},
                              {"point", i},
                              {"label", p.label()},
@@ -214,20 +217,27 @@ int run_sweep(const SweepOptions& o) {
                              {"frames", s.frames},
                              {"checks_exit_code", run.exit_code},
                              {"noise", run.summary.value("noise", nlohmann::json(nullptr))},
+                             {"signal_ms", signal_ms(timings)},
                              {"summary", folder + "/summary.json"},
                              {"timings", timings}});
-    sweep["rows"].push_back({{"kind", "embree_equal_time"},
-                             {"point", i},
-                             {"label", "equal time to " + p.label()},
-                             {"spp", eq.spp},
-                             {"ms_per_frame", json_figure(embree.seconds * 1000.0)},
-                             {"budget_ms", json_figure(ms)},
-                             {"calibration", {{"fixed_ms", json_figure(cost.fixed_s * 1000.0)},
-                                              {"per_spp_ms", json_figure(cost.per_spp_s * 1000.0)}}},
-                             {"relmse", json_figure(embree_relmse)}});
+    for (const char* peer : {"gpu_path_tracer", "embree"}) {
+      if (!peers.contains(peer)) continue;
+      nlohmann::json row = peers[peer];
+      row["kind"] = std::string(peer) + "_equal_time";
+      row["point"] = i;
+      row["label"] = "equal time to " + p.label();
+      row["ms_per_frame"] = row["ms"];
+      row["budget_ms"] = json_figure(ms);
+      sweep["rows"].push_back(row);
+    }
+    const nlohmann::json& gpu_pt = peers.value("gpu_path_tracer", nlohmann::json::object());
+    if (!gpu_pt.empty())
+      spdlog::info("[{}/{}] {}: GPU path tracer {} spp in {:.3f} ms: relMSE {:.4g}; equal-error time ratio {}", i + 1,
+                   points.size(), p.label(), gpu_pt["spp"].get<unsigned>(), gpu_pt["ms"].get<double>(),
+                   gpu_pt["relmse"].get<double>(), gpu_pt["equal_error_time_ratio_frame"].dump());
     spdlog::info("[{}/{}] {}: {:.3f} ms/frame, relMSE {:.4g}; Embree {} spp in {:.3f} ms: relMSE {:.4g} ({:.3g}x the GPU's)",
-                 i + 1, points.size(), p.label(), ms, gpu_relmse, eq.spp, embree.seconds * 1000.0, embree_relmse,
-                 embree_relmse / gpu_relmse);
+                 i + 1, points.size(), p.label(), ms, gpu_relmse, embree["spp"].get<unsigned>(),
+                 embree["ms"].get<double>(), embree_relmse, embree_relmse / gpu_relmse);
     if (run.summary.contains("noise") && run.summary["noise"].is_object())
       spdlog::info("    per-frame noise: {}", noise_cell({{"noise", run.summary["noise"]}}));
     sweep["reference"] = references;
