@@ -127,5 +127,45 @@ TEST(ReportHtml, NightlyReportOpensInHeadlessChromiumWithPlotsAndImages) {
   EXPECT_GT(colours, 64u) << "screenshot has almost no colours: no images drawn";
 }
 
+// The speed-against-error plot shows realtime scenarios (issue 17): a suite
+// of a reference-mode and a realtime GI scenario; the plot's SVG names both
+// and the path tracers measured at the realtime one's time, the equal-time
+// table has its row, and the page opens in Chromium with every image decoded.
+TEST(ReportHtml, SpeedAgainstErrorPlotShowsRealtimeScenariosAndTheirEqualTimePeers) {
+  ASSERT_TRUE(chromium_installed()) << "install Debian's chromium (.ci/setup)";
+  test::TempDir dir("report-html-speed");
+  const std::filesystem::path suite = dir.path() / "suite", out = dir.path() / "out";
+  std::filesystem::create_directories(suite);
+  std::filesystem::copy(test::source_dir() / "tests/data/suites/tiny/tiny_cornell.json", suite);
+  std::filesystem::copy(test::source_dir() / "tests/data/suites/realtime/rt_cornell_gi.json", suite);
+  const test::CommandResult run = test::run_giharness("nightly --suite " + suite.string() + " --out " + out.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::filesystem::path html = out / "report.html";
+  std::ifstream in(html);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string marker = "alt=\"speed against error\" src=\"data:image/svg+xml;base64,";
+  const std::size_t at = text.find(marker);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t begin = at + marker.size(), end = text.find('"', begin);
+  std::ofstream(dir.path() / "plot.b64") << text.substr(begin, end - begin);
+  const test::CommandResult svg = test::run_command("base64 -d " + (dir.path() / "plot.b64").string());
+  ASSERT_EQ(svg.exit_code, 0);
+  for (const char* expected : {"realtime (one frame)", "rt_cornell_gi", "reference mode (accumulated image)",
+                               "tiny_cornell", "GPU path tracer at a realtime scene", "Embree at a realtime scene"})
+    EXPECT_NE(svg.output.find(expected), std::string::npos) << expected;
+  EXPECT_NE(text.find("At equal time, same device"), std::string::npos);
+  EXPECT_NE(text.find("Per signal"), std::string::npos);
+
+  const test::CommandResult dom = chromium(html, "--dump-dom", dir);
+  EXPECT_TRUE(console_errors(dom.output).empty()) << dom.output;
+  std::smatch m;
+  const std::regex counts(R"re(data-images-ok="(\d+)" data-images-broken="(\d+)")re");
+  ASSERT_TRUE(std::regex_search(dom.output, m, counts)) << dom.output.substr(0, 4000);
+  EXPECT_GT(std::stoul(m[1].str()), 0u);
+  EXPECT_EQ(m[2].str(), "0");
+  // The equal-time table as the browser laid it out: the realtime scenario's row.
+  EXPECT_NE(dom.output.find("<td>rt_cornell_gi</td>"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gi

@@ -53,7 +53,7 @@ TEST(Sweep, ErrorAgainstTimeWithEmbreeAtEqualTime) {
   ASSERT_EQ(sweep["rows"].size(), 4u) << sweep.dump(2);
   std::vector<double> gpu_error, gpu_ms;
   for (const nlohmann::json& row : sweep["rows"]) {
-    ASSERT_TRUE(row["relmse"].is_number()) << row.dump();
+    ASSERT_TRUE(row["relmse"].is_number()) << row.dump();  // reference mode: no GPU path tracer peer (the point is one)
     ASSERT_TRUE(row["ms_per_frame"].is_number()) << row.dump();
     EXPECT_GT(row["relmse"].get<double>(), 0.0);
     if (row["kind"] == "gpu") {
@@ -89,6 +89,15 @@ TEST(Sweep, GiScenarioIsComparedWithTheFullGiReference) {
   ASSERT_EQ(sweep["reference"].size(), 1u) << sweep.dump(2);
   EXPECT_EQ(sweep["reference"][0]["direct_only"], false) << sweep["reference"].dump(2);
   for (const nlohmann::json& row : sweep["rows"]) EXPECT_TRUE(row["relmse"].is_number()) << row.dump();
+  // A realtime point has the GPU path tracer beside it, on fresh sample indices.
+  std::size_t peers = 0;
+  for (const nlohmann::json& row : sweep["rows"])
+    if (row["kind"] == "gpu_path_tracer_equal_time") {
+      ++peers;
+      EXPECT_GE(row["sample_indices"][0].get<unsigned>(), 64u) << row.dump();
+      EXPECT_TRUE(row["equal_error_time_ratio_frame"].is_number()) << row.dump();
+    }
+  EXPECT_EQ(peers, 1u) << sweep.dump(2);
 }
 
 }  // namespace

@@ -68,7 +68,8 @@ std::string row_figure(const nlohmann::json& row, const char* key) {
 // "di 1.2, gi 3.4, …" from a GPU row's ms per signal.
 std::string signal_ms_cell(const nlohmann::json& row) {
   std::string cell;
-  for (const auto& [signal, v] : row.value("signal_ms", nlohmann::json::object()).items())
+  const nlohmann::json ms = row.value("signal_ms", nlohmann::json::object());  // items() of a temporary would dangle
+  for (const auto& [signal, v] : ms.items())
     cell += (cell.empty() ? "" : ", ") + signal + " " + table_number(v.is_number() ? v.get<double>() : std::nan(""));
   return cell.empty() ? "&ndash;" : cell;
 }
