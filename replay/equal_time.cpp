@@ -68,19 +68,21 @@ nlohmann::json cost_json(const RenderCost& c) {
 nlohmann::json optional_figure(const std::optional<double>& v) { return v ? json_figure(*v) : nlohmann::json(nullptr); }
 
 // One peer's row: its render at the budget against the reference, and the
-// times it needs to reach the realtime output's two errors.
+// times it needs to reach the realtime output's two errors. v1 (per-sample
+// relMSE) comes from `noise_images`, a render of noise_spp ≥ 16 samples: the
+// halves of a render of 1 or 2 samples are too few to estimate it.
 struct PeerImages {
   Image mean, half_a, half_b;
 };
 
 nlohmann::json peer_row(const RenderCost& cost, std::uint32_t spp, std::uint32_t first_sample, double ms,
-                        const PeerImages& images, const EqualTimeTarget& t, double reference_noise) {
+                        const PeerImages& images, const PeerImages& noise_images, std::uint32_t noise_spp,
+                        const EqualTimeTarget& t, double reference_noise) {
   const ReferenceResult& ref = *t.reference;
   const RealtimePoint& rt = t.realtime;
   const double err = relmse(images.mean, ref.mean);
-  // The noise of the spp-sample mean, from its halves; per sample, spp times it.
-  const double noise = estimator_noise(images.half_a, images.half_b, ref.mean);
-  const double v1 = noise * double(spp);
+  const double v1 = estimator_noise(noise_images.half_a, noise_images.half_b, ref.mean) * double(noise_spp);
+  const double noise = v1 / double(spp);  // of this render's mean
   const std::optional<double> frame_ms = equal_error_ms(cost, v1, reference_noise, rt.frame_relmse);
   const std::optional<double> temporal_ms = equal_error_ms(cost, v1, reference_noise, rt.temporal_relmse);
   const double realtime_temporal_ms = rt.ms_per_frame * double(rt.window_frames);
@@ -88,11 +90,15 @@ nlohmann::json peer_row(const RenderCost& cost, std::uint32_t spp, std::uint32_t
       {"spp", spp},
       {"sample_indices", {first_sample, first_sample + spp}},  // [first, end)
       {"ms", json_figure(ms)},
+      // One sample costs more than the realtime frame: the row is the peer's
+      // fastest render, not one at equal time.
+      {"fits_budget", cost.fixed_ms + cost.per_spp_ms <= rt.ms_per_frame},
       {"cost", cost_json(cost)},
       {"relmse", json_figure(err)},
       {"noise_relmse", json_figure(noise)},
       {"relmse_over_expected", json_figure(err / (noise + reference_noise))},
       {"per_sample_relmse", json_figure(v1)},
+      {"per_sample_relmse_from_spp", noise_spp},
       {"relmse_over_realtime_frame", json_figure(err / rt.frame_relmse)},
       {"ms_to_realtime_frame_error", optional_figure(frame_ms)},
       {"ms_to_realtime_temporal_error", optional_figure(temporal_ms)},
@@ -156,9 +162,12 @@ nlohmann::json equal_time_figures(gpu::Device* device, gpu::ShaderCompiler* comp
     const RenderCost cost = measure_cost([&](std::uint32_t spp) { return pt.render(spp, first_sample); });
     const std::uint32_t spp = cost.spp_within(budget);
     const double ms = pt.render(spp, first_sample);
-    const PeerImages images{pt.renderer().reference_mean(), pt.renderer().reference_half(0),
-                            pt.renderer().reference_half(1)};
-    out["gpu_path_tracer"] = peer_row(cost, spp, first_sample, ms, images, t, reference_noise);
+    const gpu::Renderer& r = pt.renderer();
+    const PeerImages images{r.reference_mean(), r.reference_half(0), r.reference_half(1)};
+    const std::uint32_t noise_spp = std::max(spp, kCalibrationSpp);
+    if (noise_spp != spp) pt.render(noise_spp, first_sample + spp);  // still indices the reference did not use
+    const PeerImages noise{r.reference_mean(), r.reference_half(0), r.reference_half(1)};
+    out["gpu_path_tracer"] = peer_row(cost, spp, first_sample, ms, images, noise, noise_spp, t, reference_noise);
     out["gpu_path_tracer"]["device"] = device->info().name;
     out["gpu_path_tracer"]["rng_domain"] = "gpu_reference";
   }
@@ -171,8 +180,13 @@ nlohmann::json equal_time_figures(gpu::Device* device, gpu::ShaderCompiler* comp
     });
     eq.spp = cost.spp_within(budget);
     const ReferenceResult r = render_reference(*t.scene, eq);
+    const std::uint32_t noise_spp = std::max(eq.spp, kCalibrationSpp);
+    ReferenceOptions more = eq;
+    more.spp = noise_spp;
+    more.first_sample = eq.first_sample + eq.spp;
+    const ReferenceResult n = noise_spp != eq.spp ? render_reference(*t.scene, more) : r;
     out["embree"] = peer_row(cost, eq.spp, first_sample, r.seconds * 1000.0, PeerImages{r.mean, r.half_a, r.half_b},
-                             t, reference_noise);
+                             PeerImages{n.mean, n.half_a, n.half_b}, noise_spp, t, reference_noise);
     out["embree"]["rng_domain"] = "embree";
   }
   return out;

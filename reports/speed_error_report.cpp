@@ -73,8 +73,9 @@ std::string speed_against_error_tables(const std::vector<NamedSummary>& runs) {
     const nlohmann::json& em = object_or_empty(eq, "embree");
     auto peer = [](const nlohmann::json& p) {
       return p.empty() ? std::string("&ndash;")
-                       : fmt::format("{} ({} spp, {} ms)", cell(p.value("relmse", nlohmann::json())),
-                                     p.value("spp", 0u), cell(p.value("ms", nlohmann::json())));
+                       : fmt::format("{} ({} spp, {} ms{})", cell(p.value("relmse", nlohmann::json())),
+                                     p.value("spp", 0u), cell(p.value("ms", nlohmann::json())),
+                                     p.value("fits_budget", true) ? "" : "; one sample exceeds the realtime frame");
     };
     equal.push_back({html_escape(r.name), cell(rt.value("ms_per_frame", nlohmann::json())),
                      cell(rt.value("frame_relmse", nlohmann::json())), peer(pt), peer(em),
