@@ -90,7 +90,13 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
   if (options_.world_cache) {
     if (!options_.gbuffer) throw DeviceError("Renderer: the world cache needs the G-buffer (RendererOptions::gbuffer)");
     WorldCacheSettings cache = *options_.world_cache;
-    if (gi_queries_cache) cache.external_queries_per_pixel = options_.gi->chains * (options_.gi->specular ? 2u : 1u);
+    // GI's initial samples (one id block each: the first, specular GI's, then
+    // the extra candidates of restir_gi.initial_samples, gi_cache_query_id).
+    if (gi_queries_cache) {
+      const std::uint32_t extra = options_.gi->initial_samples - 1u;
+      cache.external_queries_per_pixel =
+          options_.gi->chains * (extra > 0 ? 2u + extra : (options_.gi->specular ? 2u : 1u));
+    }
     if (cache.tile_candidates) {
       if (!di_) throw DeviceError("Renderer: the world cache's light-tile candidates need realtime DI's light tiles");
       cache.tile_count = options_.di->tile_count;  // the tiles as DI sized them

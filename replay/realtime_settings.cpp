@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "core/errors.h"
 #include "core/shared/brdf.h"
 #include "gpu/passes/di_pipeline.h"
 
@@ -113,6 +114,10 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   using G = gpu::GiSettings;
   gpu::GiSettings s;
   s.confidence_cap = static_cast<float>(p.number("restir_gi.confidence_cap"));
+  const long long initial = p.integer("restir_gi.initial_samples");
+  if (initial < 1 || initial > 64)
+    throw InputError("profile " + p.name, "restir_gi.initial_samples", "an integer from 1 to 64, got " + std::to_string(initial));
+  s.initial_samples = static_cast<std::uint32_t>(initial);
   s.spatial_radius = static_cast<float>(p.number("restir_gi.spatial_radius_px"));
   s.spatial_tries = static_cast<std::uint32_t>(p.integer("restir_di.spatial_tries"));
   s.spatial_radius_halving = p.text("restir_di.spatial_search") == "halving";

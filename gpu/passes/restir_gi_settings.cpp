@@ -50,6 +50,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
   if (!temporal_reuse) d.push_back({"GI_NO_TEMPORAL_REUSE", ""});
+  // Only when not Solari's 1: the released variants keep their compiled shaders.
+  if (initial_samples != 1) d.push_back({"GI_INITIAL_SAMPLES", std::to_string(initial_samples)});
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
   return d;
 }

@@ -14,6 +14,9 @@ class Buffer;
 
 struct GiSettings {
   float confidence_cap = 8.0f;
+  // restir_gi.initial_samples: rays resampled into the initial reservoir
+  // (Solari: 1; more is a harness knob, issue 17).
+  std::uint32_t initial_samples = 1;
   float spatial_radius = 30.0f;
   std::uint32_t spatial_tries = 5;
   float plane_tolerance = 0.003f;

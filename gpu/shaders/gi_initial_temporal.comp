@@ -21,6 +21,10 @@ layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_MID) writeonly buffer Mi
 layout(std430, set = 0, binding = BINDING_GI_SURFACES) readonly buffer Surfaces { GiSurface surfaces[]; };
 layout(std430, set = 0, binding = BINDING_GI_RESERVOIRS_HISTORY) readonly buffer History { GiReservoir history_reservoirs[]; };
 
+#ifndef GI_INITIAL_SAMPLES
+#define GI_INITIAL_SAMPLES 1
+#endif
+
 #if GI_EMPTY_NO_CONFIDENCE != 0
 const float GI_EMPTY_CONFIDENCE = 0.0;
 #else
@@ -70,6 +74,7 @@ void main() {
 
   // Initial sample.
   GiReservoir canonical = empty_gi_reservoir(GI_EMPTY_CONFIDENCE);
+#if GI_INITIAL_SAMPLES == 1
   vec3 dir = to_world(sample_uniform_hemisphere(rng_next_vec2(rng)), d.ns);
   if (dot(dir, d.ng) > 0.0) {
     Hit hit;
@@ -87,6 +92,44 @@ void main() {
       }
     }
   }
+#else
+  // restir_gi.initial_samples > 1 (a harness knob; Solari traces one ray,
+  // v0.18.0 realtime/restir_gi.wgsl:91-109): resampled importance sampling
+  // over N such rays, each weighted by its target over the uniform pdf; the
+  // winner's contribution weight is the mean weight over its target. The
+  // reservoir keeps confidence 1, as Solari's initial one (and ReSTIR DI's
+  // 8-candidate one) has. Each candidate's cache query has an id of its own
+  // (blocks 2.. after specular GI's; WorldCacheSettings::external_queries_per_pixel
+  // counts them): with one id shared, a candidate's request to insert a new
+  // cell could be dropped, and its empty cell read as black (indirect light
+  // 10 % dark in the Cornell box at N = 4).
+  float weight_sum = 0.0;
+  for (uint i = 0u; i < uint(GI_INITIAL_SAMPLES); ++i) {
+    vec3 dir = to_world(sample_uniform_hemisphere(rng_next_vec2(rng)), d.ns);
+    if (dot(dir, d.ng) <= 0.0) continue;
+    Hit hit;
+    if (!trace_closest(offset_ray_origin(d.position, d.ng), dir, float(GI_RAY_TMAX), hit)) continue;
+    SurfacePoint s = surface_at_hit(hit);
+    bool front = dot(dir, s.geometric_normal) < 0.0;
+    if (gi_hit_emissive(s, front)) continue;
+    vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
+    vec3 ns = dot(s.shading_normal, ng) < 0.0 ? -s.shading_normal : s.shading_normal;
+    vec3 radiance =
+        secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(i == 0u ? 0u : 1u + i, chain, index), true), rng);
+    float w = gi_target(radiance * d.target, s.position, d.position, d.ns) * TWO_PI;
+    if (!(w > 0.0)) continue;
+    weight_sum += w;
+    if (rng_next_float(rng) * weight_sum <= w) {
+      canonical.sample_position = vec4(s.position, 1.0);
+      canonical.sample_normal.xyz = ng;
+      canonical.radiance.rgb = radiance;
+    }
+  }
+  if (weight_sum > 0.0) {
+    float target = gi_target(canonical.radiance.rgb * d.target, canonical.sample_position.xyz, d.position, d.ns);
+    canonical.radiance.w = weight_sum / (float(GI_INITIAL_SAMPLES) * target);
+  }
+#endif
 
   // Temporal reuse (GI_NO_TEMPORAL_REUSE: none; restir_gi.temporal_reuse
   // false, a harness-only switch for the GI noise breakdown of issue 17).
