@@ -145,7 +145,7 @@ nlohmann::json equal_time_figures(gpu::Device* device, gpu::ShaderCompiler* comp
   const std::uint32_t first_sample = ro.spp;
   nlohmann::json out = {
       {"method",
-       "peers at the realtime pipeline's ms/frame (sum of its passes' median GPU times), on sample indices the "
+       "peers at the realtime pipeline's ms/frame (sum of its passes' median GPU times, one chain's: the passes run per chain divided by the chains), on sample indices the "
        "reference did not use; cost = fixed + spp x per-spp from renders at 1 and 16 spp (fastest of 3); the time "
        "to reach an error E: fixed + per_spp x v1 / (E - r), v1 the peer's per-sample relMSE, r the reference's "
        "noise; ratio = that time / the realtime time to the same error (1 frame; the window's frames for the "

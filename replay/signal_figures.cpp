@@ -1,5 +1,6 @@
 #include "replay/signal_figures.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -25,13 +26,13 @@ std::string pass_signal(const std::string& pass) {
   return "shared";
 }
 
-nlohmann::json signal_ms(const nlohmann::json& timings) {
+nlohmann::json signal_ms(const nlohmann::json& timings, std::uint32_t chains) {
   std::map<std::string, double> ms;
   if (timings.is_object() && timings.contains("passes"))
     for (const auto& [pass, stats] : timings["passes"].items()) {
       const std::string signal = pass_signal(pass);
       if (signal.empty() || !stats.contains("median_ms") || !stats["median_ms"].is_number()) continue;
-      ms[signal] += stats["median_ms"].get<double>();
+      ms[signal] += stats["median_ms"].get<double>() / (pass_per_chain(pass) ? double(std::max(chains, 1u)) : 1.0);
     }
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [signal, v] : ms) out[signal] = json_figure(v);

@@ -27,8 +27,9 @@ namespace gi {
 // for the observation passes.
 std::string pass_signal(const std::string& pass);
 
-// {signal: ms} from a summary's "timings" (median ms per pass, summed).
-nlohmann::json signal_ms(const nlohmann::json& timings);
+// {signal: ms} from a summary's "timings" (median ms per pass, summed), for
+// one chain (reports/summary.h pass_per_chain: those passes over `chains`).
+nlohmann::json signal_ms(const nlohmann::json& timings, std::uint32_t chains);
 
 // Both chains' temporal means of one signal over the window.
 struct ChainMeans {

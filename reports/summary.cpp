@@ -45,6 +45,25 @@ double pipeline_ms_per_frame(const nlohmann::json& timings) {
   return ms;
 }
 
+bool pass_per_chain(const std::string& name) {
+  return name == "light_tiles" || name == "di_initial_temporal" || name == "di_spatial_shade" ||
+         name == "gi_initial_temporal" || name == "gi_spatial_shade" || name == "specular_gi";
+}
+
+double one_chain_ms_per_frame(const nlohmann::json& timings, std::uint32_t chains) {
+  if (!timings.is_object() || !timings.contains("passes") || timings["passes"].empty()) return std::nan("");
+  const double per_chain = 1.0 / double(std::max(chains, 1u));
+  double ms = 0;
+  for (const auto& [pass, stats] : timings["passes"].items()) {
+    if (observation_pass(pass)) continue;
+    const double median = stats.contains("median_ms") && stats["median_ms"].is_number()
+                              ? stats["median_ms"].get<double>()
+                              : std::nan("");
+    ms += pass_per_chain(pass) ? median * per_chain : median;
+  }
+  return ms;
+}
+
 nlohmann::json build_info() {
   return {{"giharness", "0.1.0"},
           {"compiler", std::string("g++ ") + __VERSION__},

@@ -22,6 +22,16 @@ inline bool observation_pass(const std::string& name) { return name == "frame_ou
 // ships does not run them); NaN without timings.
 double pipeline_ms_per_frame(const nlohmann::json& timings);
 
+// The passes dispatched once per chain (their z or y dimension): with two
+// independent chains (a reference check's noise estimate, `noise: true`)
+// they do twice the work a shipped pipeline, which runs one, does.
+bool pass_per_chain(const std::string& name);
+
+// The pipeline's ms/frame for one chain: as pipeline_ms_per_frame, with the
+// per-chain passes divided by `chains` (the passes every chain shares, such
+// as the G-buffer and the world cache, whole). NaN without timings.
+double one_chain_ms_per_frame(const nlohmann::json& timings, std::uint32_t chains);
+
 // Per pass: frames, mean, median, p95, min, max (ms), plus the total of the
 // means (ms/frame of the recorded passes).
 nlohmann::json timing_summary(const std::map<std::string, std::vector<double>>& per_pass_ms);

@@ -144,7 +144,7 @@ int run_sweep(const SweepOptions& o) {
                           {"build", build_info()},
                           {"method",
                            "GPU: ms/frame = sum of the pipeline passes' median timestamps (observation passes left "
-                           "out); relMSE of the last frame against a converged Embree reference. Path tracers at "
+                           "out; for a realtime point one chain's: passes run per chain divided by the chains); relMSE of the last frame against a converged Embree reference. Path tracers at "
                            "equal time (the GPU one on the same device for realtime points, and Embree): the "
                            "samples per pixel that fit the GPU's ms/frame at the tracer's measured cost (a "
                            "per-render and a per-sample part), on sample indices the reference did not use, "
@@ -168,7 +168,9 @@ int run_sweep(const SweepOptions& o) {
     const nlohmann::json& timings = run.summary["timings"];
     // Sum of the passes' medians: lavapipe compiles a pipeline at its first
     // dispatch, and that one frame would dominate a mean of a short run.
-    const double ms = pipeline_ms_per_frame(timings);
+    // A realtime point's ms/frame is one chain's (with --noise the run renders two).
+    const std::uint32_t chains = run.summary["resolved"].value("chains", 1u);
+    const double ms = chains > 0 ? one_chain_ms_per_frame(timings, chains) : pipeline_ms_per_frame(timings);
     const Image gpu_image = read_exr(ro.out_dir / capture_images_file(last)).at("");
 
     Scene initial = build_scene(s);
@@ -218,7 +220,9 @@ int run_sweep(const SweepOptions& o) {
                              {"frames", s.frames},
                              {"checks_exit_code", run.exit_code},
                              {"noise", run.summary.value("noise", nlohmann::json(nullptr))},
-                             {"signal_ms", signal_ms(timings)},
+                             {"signal_ms", signal_ms(timings, chains)},
+                             {"chains", chains},
+                             {"ms_per_frame_all_chains", json_figure(pipeline_ms_per_frame(timings))},
                              {"summary", folder + "/summary.json"},
                              {"timings", timings}});
     for (const char* peer : {"gpu_path_tracer", "embree"}) {
