@@ -16,6 +16,7 @@
 #include "gpu/shader_compiler.h"
 #include "replay/equal_time.h"
 #include "replay/signal_figures.h"
+#include "reports/summary.h"
 #include "tests/test_support.h"
 
 namespace gi {
@@ -34,6 +35,25 @@ TEST(EqualTime, CostModelAndEqualErrorTime) {
   EXPECT_NEAR(*equal_error_ms(c, 0.4, 0.01, 0.05), 7.0, 1e-9);
   EXPECT_FALSE(equal_error_ms(c, 0.4, 0.01, 0.01).has_value());  // no estimate shows less than the reference's noise
   EXPECT_FALSE(equal_error_ms(c, 0.4, 0.01, std::nan("")).has_value());
+}
+
+// The realtime budget is one chain's: the passes run per chain count once
+// with two chains, the shared ones whole, the observation passes not at all.
+TEST(EqualTime, OneChainBudgetCountsPerChainPassesOnce) {
+  const nlohmann::json timings = {{"passes",
+                                   {{"gbuffer_resolve", {{"median_ms", 1.0}}},
+                                    {"di_initial_temporal", {{"median_ms", 4.0}}},
+                                    {"gi_spatial_shade", {{"median_ms", 6.0}}},
+                                    {"world_cache_decay", {{"median_ms", 2.0}}},
+                                    {"frame_output", {{"median_ms", 9.0}}}}}};
+  EXPECT_DOUBLE_EQ(pipeline_ms_per_frame(timings), 13.0);
+  EXPECT_DOUBLE_EQ(one_chain_ms_per_frame(timings, 2), 8.0);
+  EXPECT_DOUBLE_EQ(one_chain_ms_per_frame(timings, 1), 13.0);
+  const nlohmann::json ms = signal_ms(timings, 2);
+  EXPECT_DOUBLE_EQ(ms["di"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(ms["gi"].get<double>(), 5.0);
+  EXPECT_DOUBLE_EQ(ms["shared"].get<double>(), 1.0);
+  EXPECT_FALSE(ms.contains("frame_output"));
 }
 
 struct SmallCornell {
