@@ -174,7 +174,7 @@ nlohmann::json equal_time_figures(gpu::Device* device, gpu::ShaderCompiler* comp
   if (t.embree) {
     ReferenceOptions eq = ro;
     eq.first_sample = first_sample;
-    const RenderCost cost = measure_cost([&](std::uint32_t spp) {
+    const RenderCost cost = t.embree_cost ? *t.embree_cost : measure_cost([&](std::uint32_t spp) {
       eq.spp = spp;
       return render_reference(*t.scene, eq).seconds * 1000.0;
     });

@@ -70,6 +70,10 @@ struct EqualTimeTarget {
   const ReferenceResult* reference = nullptr;
   RealtimePoint realtime;
   bool embree = true;                    // also the Embree peer
+  // Embree's cost when already measured for this scene state and resolution
+  // (a sweep's points share it; `out` of equal_time_figures' "embree"
+  // "cost"): not measured again.
+  std::optional<RenderCost> embree_cost;
 };
 
 // {"method", "reference", "realtime", "gpu_path_tracer", "embree"}: each

@@ -152,6 +152,7 @@ int run_sweep(const SweepOptions& o) {
                            "for the point's relMSE over the point's ms/frame (replay/equal_time.h)."},
                           {"rows", nlohmann::json::array()}};
   nlohmann::json references = nlohmann::json::array();
+  std::map<std::uint64_t, RenderCost> embree_costs;
   std::optional<gpu::Device> peer_device;  // the GPU path tracer's: the device the points ran on
   std::optional<gpu::ShaderCompiler> peer_compiler;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -201,6 +202,13 @@ int run_sweep(const SweepOptions& o) {
     target.reference_options = ref_options;
     target.reference = &reference;
     target.realtime = {ms, gpu_relmse, std::nan(""), 0};
+    // One Embree calibration per scene state and resolution (keyed with spp
+    // 0): every point of one scene shares it, as its cost does not depend on
+    // the pipeline's settings.
+    ReferenceOptions key_options = ref_options;
+    key_options.spp = 0;
+    const std::uint64_t key = reference_cache_key(scene, key_options);
+    if (const auto c = embree_costs.find(key); c != embree_costs.end()) target.embree_cost = c->second;
     const bool realtime = s.mode == RenderMode::Realtime;
     if (realtime && !peer_device) {
       peer_device.emplace(o.device, gpu::BackendRequest::automatic);
@@ -209,6 +217,7 @@ int run_sweep(const SweepOptions& o) {
     const nlohmann::json peers = equal_time_figures(realtime ? &*peer_device : nullptr,
                                                     realtime ? &*peer_compiler : nullptr, target);
     const nlohmann::json& embree = peers["embree"];
+    embree_costs[key] = {embree["cost"]["fixed_ms"].get<double>(), embree["cost"]["per_spp_ms"].get<double>()};
     const double embree_relmse = embree["relmse"].get<double>();
     sweep["rows"].push_back({{"kind", "gpu"},
                              {"point", i},
