@@ -25,7 +25,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
+#include "core/gltf_schema.h"
 #include "core/json_input.h"
+#include "core/shared/texture_sampling.h"
+#include "core/tangents.h"
+#include "core/texture_decode.h"
 
 namespace gi {
 namespace {
@@ -95,8 +99,13 @@ bool fs_write(std::string* err, const std::string&, const std::vector<unsigned c
 }
 
 // Images are never used: accept them without decoding.
-bool no_image_loader(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
-                     int, void*) {
+// TinyGLTF hands every image's encoded bytes (from a uri or a bufferView) to
+// this callback. They are kept encoded: the importer decodes only the images a
+// material uses, and names the image's JSON path when one is broken.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void*) {
+  image->image.assign(bytes, bytes + size);
+  image->width = image->height = -1;  // not decoded
   return true;
 }
 
@@ -155,14 +164,16 @@ class Importer {
     }
     const Json j = parse_json_input(json_text, fname_);
     if (!j.is_object()) fail("", "a JSON object at the top level");
-    precheck(j, glb);
+    // The glTF 2.0 schema, before TinyGLTF (lenient) reads it: every violation
+    // is exit 2 with its JSON path (core/gltf_schema.h).
+    validate_gltf_document(j, fname_, glb);
 
     std::filesystem::path base = std::filesystem::absolute(file_, ec).parent_path().lexically_normal();
     fs_.base_dir = base.string();
     while (fs_.base_dir.size() > 1 && fs_.base_dir.back() == '/') fs_.base_dir.pop_back();
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(tinygltf::FsCallbacks{&fs_file_exists, &fs_expand, &fs_read, &fs_write, &fs_});
-    loader.SetImageLoader(&no_image_loader, nullptr);
+    loader.SetImageLoader(&keep_encoded_image, nullptr);
     std::string err, warnings;
     bool ok = false;
     if (glb)
@@ -175,139 +186,21 @@ class Importer {
     if (!warnings.empty()) warn("loader: " + trim(warnings));
   }
 
-  // Checks on the raw JSON for what TinyGLTF would reject without a path.
-  void precheck(const Json& j, bool glb) {
-    auto array_size = [&](const char* key) -> std::size_t {
-      auto it = j.find(key);
-      return it != j.end() && it->is_array() ? it->size() : 0;
-    };
-    const std::size_t n_accessors = array_size("accessors"), n_views = array_size("bufferViews");
-    if (auto a = j.find("asset"); a == j.end() || !a->is_object()) fail("/asset", "an \"asset\" object");
-    for (const char* key : {"accessors", "bufferViews", "buffers", "materials", "meshes", "nodes", "scenes",
-                            "cameras", "textures", "images", "samplers", "skins", "animations"}) {
-      auto it = j.find(key);
-      if (it == j.end()) continue;
-      const std::string kp = std::string("/") + key;
-      if (!it->is_array()) fail(kp, "an array");
-      for (std::size_t i = 0; i < it->size(); ++i)
-        if (!(*it)[i].is_object()) fail(idx(kp, i), "an object");
-    }
-    auto uint_field = [&](const Json& o, const std::string& path, const char* key, bool required, std::int64_t min) {
-      auto f = o.find(key);
-      if (f == o.end()) {
-        if (required) fail(path, std::string("a \"") + key + "\" property");
-        return;
-      }
-      if (!f->is_number_integer() || f->get<std::int64_t>() < min || f->get<std::int64_t>() > 0xffffffffll)
-        fail(path + "/" + key, "an integer ≥ " + std::to_string(min) + " (below 2^32)");
-    };
-    if (auto it = j.find("bufferViews"); it != j.end()) {
-      for (std::size_t v = 0; v < it->size(); ++v) {
-        const std::string vp = idx("/bufferViews", v);
-        uint_field((*it)[v], vp, "buffer", true, 0);
-        uint_field((*it)[v], vp, "byteLength", true, 1);
-        uint_field((*it)[v], vp, "byteOffset", false, 0);
-        uint_field((*it)[v], vp, "byteStride", false, 4);
-      }
-    }
-    if (auto it = j.find("buffers"); it != j.end())
-      for (std::size_t b = 0; b < it->size(); ++b) uint_field((*it)[b], idx("/buffers", b), "byteLength", true, 1);
-    if (auto it = j.find("accessors"); it != j.end()) {
-      static const std::set<std::string> types = {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"};
-      static const std::set<std::int64_t> comps = {5120, 5121, 5122, 5123, 5125, 5126};
-      for (std::size_t a = 0; a < it->size(); ++a) {
-        const Json& acc = (*it)[a];
-        const std::string ap = idx("/accessors", a);
-        uint_field(acc, ap, "count", true, 1);
-        uint_field(acc, ap, "byteOffset", false, 0);
-        auto t = acc.find("type");
-        if (t == acc.end() || !t->is_string() || !types.count(t->get<std::string>()))
-          fail(ap + "/type", "one of SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3, MAT4");
-        auto c = acc.find("componentType");
-        if (c == acc.end() || !c->is_number_integer() || !comps.count(c->get<std::int64_t>()))
-          fail(ap + "/componentType", "one of 5120, 5121, 5122, 5123, 5125, 5126");
-      }
-    }
-    auto check_ref = [&](const Json& v, const std::string& path, std::size_t n, const char* what) {
-      if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() >= std::int64_t(n))
-        fail(path, std::string("an index into /") + what + " (0 ≤ index < " + std::to_string(n) + ")");
-    };
-    if (auto it = j.find("buffers"); it != j.end() && it->is_array()) {
-      for (std::size_t b = 0; b < it->size(); ++b) {
-        const Json& buf = (*it)[b];
-        if (!buf.is_object()) fail(idx("/buffers", b), "a buffer object");
-        auto u = buf.find("uri");
-        if (u == buf.end()) {
-          if (!(glb && b == 0)) fail(idx("/buffers", b), "a \"uri\" (only a .glb's first buffer may omit it)");
-          continue;
-        }
-        if (!u->is_string()) fail(idx("/buffers", b) + "/uri", "a string");
-        const std::string uri = u->get<std::string>();
-        if (uri.rfind("data:", 0) == 0) continue;
-        std::error_code ec;
-        const std::filesystem::path p =
-            std::filesystem::absolute(file_, ec).parent_path() / std::filesystem::path(uri_decode(uri));
-        if (!std::filesystem::is_regular_file(p, ec))
-          fail(idx("/buffers", b) + "/uri", "an existing buffer file (\"" + p.lexically_normal().string() +
-                                                "\" does not exist)");
-      }
-    }
-    if (auto it = j.find("accessors"); it != j.end() && it->is_array()) {
-      for (std::size_t a = 0; a < it->size(); ++a) {
-        const Json& acc = (*it)[a];
-        if (!acc.is_object()) fail(idx("/accessors", a), "an accessor object");
-        if (auto bv = acc.find("bufferView"); bv != acc.end())
-          check_ref(*bv, idx("/accessors", a) + "/bufferView", n_views, "bufferViews");
-      }
-    }
-    if (auto it = j.find("meshes"); it != j.end() && it->is_array()) {
-      for (std::size_t m = 0; m < it->size(); ++m) {
-        const Json& mesh = (*it)[m];
-        if (!mesh.is_object()) fail(idx("/meshes", m), "a mesh object");
-        auto prims = mesh.find("primitives");
-        if (prims == mesh.end() || !prims->is_array() || prims->empty())
-          fail(idx("/meshes", m) + "/primitives", "a non-empty array of primitives");
-        for (std::size_t p = 0; p < prims->size(); ++p) {
-          const std::string pp = idx(idx("/meshes", m) + "/primitives", p);
-          const Json& prim = (*prims)[p];
-          if (!prim.is_object()) fail(pp, "a primitive object");
-          if (auto ind = prim.find("indices"); ind != prim.end()) check_ref(*ind, pp + "/indices", n_accessors, "accessors");
-          auto attrs = prim.find("attributes");
-          if (attrs == prim.end() || !attrs->is_object()) fail(pp + "/attributes", "an object of attributes");
-          for (auto a = attrs->begin(); a != attrs->end(); ++a)
-            check_ref(a.value(), pp + "/attributes/" + a.key(), n_accessors, "accessors");
-        }
-      }
-    }
-    if (auto it = j.find("nodes"); it != j.end() && it->is_array()) {
-      for (std::size_t n = 0; n < it->size(); ++n) {
-        const Json& node = (*it)[n];
-        if (!node.is_object()) fail(idx("/nodes", n), "a node object");
-        if (node.contains("matrix") && (node.contains("translation") || node.contains("rotation") || node.contains("scale")))
-          warn("node " + idx("/nodes", n) + " has both \"matrix\" and TRS: the matrix is used (glTF forbids both)");
-      }
-    }
-  }
-
   void check_extensions() {
-    static const std::set<std::string> supported = {
-        "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior"};
-    static const std::set<std::string> texture_only = {"KHR_texture_transform", "KHR_texture_basisu",
-                                                       "EXT_texture_webp", "MSFT_texture_dds"};
+    static const std::set<std::string> supported = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                                    "KHR_materials_specular", "KHR_materials_ior",
+                                                    "KHR_texture_transform"};
     for (std::size_t i = 0; i < model_.extensionsRequired.size(); ++i) {
       const std::string& e = model_.extensionsRequired[i];
       if (supported.count(e)) continue;
-      if (texture_only.count(e)) {
-        warn("required extension " + e + " only affects textures, which are ignored");
-        continue;
-      }
+      // Compressed image formats (KHR_texture_basisu, EXT_texture_webp, ...)
+      // are refused too: their textures would render as something else.
       fail(idx("/extensionsRequired", i), "only extensions this importer supports (KHR_lights_punctual, "
                                            "KHR_materials_emissive_strength, KHR_materials_specular, "
-                                           "KHR_materials_ior); \"" + e + "\" is required");
+                                           "KHR_materials_ior, KHR_texture_transform); \"" + e + "\" is required");
     }
     for (const std::string& e : model_.extensionsUsed)
-      if (!supported.count(e) && !texture_only.count(e))
-        warn("extension " + e + " (used, not required) is ignored");
+      if (!supported.count(e)) warn("extension " + e + " (used, not required) is ignored");
   }
 
   // ---- accessors ---------------------------------------------------------
@@ -473,6 +366,7 @@ class Importer {
         mesh.normals.clear();
       }
     }
+    read_texture_attributes(prim, pp, pos.count, mesh);
     if (prim.indices >= 0) {
       const View ind = accessor(prim.indices, pp + "/indices", TINYGLTF_TYPE_SCALAR,
                                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
@@ -496,9 +390,138 @@ class Importer {
       mesh.indices.resize(pos.count);
       for (std::size_t i = 0; i < pos.count; ++i) mesh.indices[i] = std::uint32_t(i);
     }
+    if (mesh.tangents.empty() && uses_normal_map(prim.material)) generate_missing_tangents(mesh, pp);
     const std::uint32_t id = std::uint32_t(scene_.meshes.size());
     scene_.meshes.push_back(std::move(mesh));
     mesh_cache_.emplace(key, id);
+    return id;
+  }
+
+  // TEXCOORD_0 and TANGENT, read when present (FLOAT only). Other texture
+  // coordinate sets are left alone: a texture that uses one is warned about.
+  void read_texture_attributes(const tinygltf::Primitive& prim, const std::string& pp, std::size_t count,
+                               Mesh& mesh) const {
+    if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+      const View uv = accessor(it->second, pp + "/attributes/TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                               {TINYGLTF_COMPONENT_TYPE_FLOAT}, "a TEXCOORD_0");
+      const std::string ap = idx("/accessors", std::size_t(it->second));
+      if (uv.count != count) fail(ap + "/count", "as many TEXCOORD_0 as positions (" + std::to_string(count) + ")");
+      mesh.uvs.resize(count);
+      for (std::size_t i = 0; i < count; ++i) {
+        float f[2];
+        std::memcpy(f, uv.data + i * uv.stride, sizeof f);
+        if (!std::isfinite(f[0]) || !std::isfinite(f[1]))
+          fail(ap, "finite TEXCOORD_0 values (element " + std::to_string(i) + " is NaN or infinite)");
+        mesh.uvs[i] = glm::vec2(f[0], f[1]);
+      }
+    }
+    if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
+      const View tv = accessor(it->second, pp + "/attributes/TANGENT", TINYGLTF_TYPE_VEC4,
+                               {TINYGLTF_COMPONENT_TYPE_FLOAT}, "a TANGENT");
+      const std::string ap = idx("/accessors", std::size_t(it->second));
+      if (tv.count != count) fail(ap + "/count", "as many TANGENT as positions (" + std::to_string(count) + ")");
+      mesh.tangents.resize(count);
+      for (std::size_t i = 0; i < count; ++i) {
+        float f[4];
+        std::memcpy(f, tv.data + i * tv.stride, sizeof f);
+        if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]) || (f[3] != 1.0f && f[3] != -1.0f))
+          fail(ap, "TANGENT values with finite xyz and w = ±1 (element " + std::to_string(i) + ")");
+        mesh.tangents[i] = glm::vec4(f[0], f[1], f[2], f[3]);
+      }
+    }
+  }
+
+  bool uses_normal_map(int material) const {
+    return material >= 0 && std::size_t(material) < model_.materials.size() &&
+           model_.materials[std::size_t(material)].normalTexture.index >= 0;
+  }
+
+  // glTF 2.0 (§3.7.2.1): without TANGENT, a normal-mapped primitive gets
+  // MikkTSpace tangents (core/tangents.h), which needs normals and uvs.
+  void generate_missing_tangents(Mesh& mesh, const std::string& pp) {
+    if (mesh.normals.empty() || mesh.uvs.empty()) {
+      warn(pp + ": normal map ignored: tangents need " +
+           std::string(mesh.normals.empty() ? "NORMAL" : "TEXCOORD_0") + " and the primitive has none");
+      return;
+    }
+    generate_tangents(mesh);
+  }
+
+  float finite_float(double v, const std::string& path) const {
+    if (!finite_f32(v)) fail(path, "a finite number");
+    return static_cast<float>(v);
+  }
+
+  static std::uint32_t wrap_mode(int gl_wrap) {
+    switch (gl_wrap) {
+      case 33071: return shader::TEXTURE_WRAP_CLAMP_TO_EDGE;
+      case 33648: return shader::TEXTURE_WRAP_MIRRORED_REPEAT;
+      default: return shader::TEXTURE_WRAP_REPEAT;  // 10497 (the schema check refused anything else)
+    }
+  }
+
+  glm::vec2 vec2_of(const tinygltf::Value& v, const std::string& path) const {
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+      fail(path, "an array of 2 numbers");
+    return {finite_float(v.Get(0).GetNumberAsDouble(), path + "/0"),
+            finite_float(v.Get(1).GetNumberAsDouble(), path + "/1")};
+  }
+
+  // A material's textureInfo: the image (decoded once), the sampler's wrap
+  // modes and KHR_texture_transform.
+  TextureRef texture_ref(int index, int tex_coord, const tinygltf::ExtensionMap& ext, const std::string& path) {
+    TextureRef ref;
+    if (index < 0) return ref;
+    if (std::size_t(index) >= model_.textures.size())
+      fail(path + "/index", "an index into /textures (0 ≤ index < " + std::to_string(model_.textures.size()) + ")");
+    const tinygltf::Texture& t = model_.textures[std::size_t(index)];
+    const std::string tp = idx("/textures", std::size_t(index));
+    if (t.source < 0) fail(tp, "a \"source\" image (textures without one are not supported)");
+    if (std::size_t(t.source) >= model_.images.size())
+      fail(tp + "/source", "an index into /images (0 ≤ index < " + std::to_string(model_.images.size()) + ")");
+    for (const auto& [name, value] : t.extensions) warn(tp + ": extension " + name + " ignored; \"source\" used");
+    ref.image = std::int32_t(image_for(t.source));
+    if (t.sampler >= 0) {
+      if (std::size_t(t.sampler) >= model_.samplers.size())
+        fail(tp + "/sampler", "an index into /samplers (0 ≤ index < " + std::to_string(model_.samplers.size()) + ")");
+      const tinygltf::Sampler& sm = model_.samplers[std::size_t(t.sampler)];
+      ref.wrap_s = wrap_mode(sm.wrapS);
+      ref.wrap_t = wrap_mode(sm.wrapT);
+    }
+    if (auto it = ext.find("KHR_texture_transform"); it != ext.end()) {
+      const tinygltf::Value& x = it->second;
+      const std::string xp = path + "/extensions/KHR_texture_transform";
+      if (!x.IsObject()) fail(xp, "an object");
+      if (x.Has("offset")) ref.offset = vec2_of(x.Get("offset"), xp + "/offset");
+      if (x.Has("scale")) ref.scale = vec2_of(x.Get("scale"), xp + "/scale");
+      if (x.Has("rotation")) {
+        if (!x.Get("rotation").IsNumber()) fail(xp + "/rotation", "a number (radians)");
+        ref.rotation = finite_float(x.Get("rotation").GetNumberAsDouble(), xp + "/rotation");
+      }
+      if (x.Has("texCoord")) {
+        if (!x.Get("texCoord").IsInt()) fail(xp + "/texCoord", "an integer ≥ 0");
+        tex_coord = x.Get("texCoord").GetNumberAsInt();
+      }
+    }
+    for (const auto& [name, value] : ext)
+      if (name != "KHR_texture_transform") warn(path + ": extension " + name + " ignored");
+    if (tex_coord != 0) warn(path + ": texCoord " + std::to_string(tex_coord) + " is not supported; TEXCOORD_0 used");
+    return ref;
+  }
+
+  std::uint32_t image_for(int gltf_image) {
+    if (auto it = image_cache_.find(gltf_image); it != image_cache_.end()) return it->second;
+    tinygltf::Image& gi = model_.images[std::size_t(gltf_image)];
+    const std::string ip = idx("/images", std::size_t(gltf_image));
+    if (gi.image.empty()) fail(ip, "an image with data (a uri or a bufferView)");
+    TextureImage out;
+    out.name = gi.name.empty() ? "image_" + std::to_string(gltf_image) : gi.name;
+    std::string why;
+    if (!decode_texture_image(gi.image.data(), gi.image.size(), out, why)) fail(ip, why);
+    std::vector<unsigned char>().swap(gi.image);  // the encoded bytes are no longer needed
+    const std::uint32_t id = std::uint32_t(scene_.images.size());
+    scene_.images.push_back(std::move(out));
+    image_cache_.emplace(gltf_image, id);
     return id;
   }
 
@@ -580,14 +603,19 @@ class Importer {
       for (const auto& [name, value] : gm.extensions)
         if (name != "KHR_materials_emissive_strength" && name != "KHR_materials_specular" && name != "KHR_materials_ior")
           warn(mp + ": extension " + name + " ignored");
-      auto tex = [&](int index, const char* what, const char* used) {
-        if (index >= 0) warn(mp + " (" + out.name + "): " + what + " ignored; " + used);
-      };
-      tex(pbr.baseColorTexture.index, "baseColorTexture", "baseColorFactor used");
-      tex(pbr.metallicRoughnessTexture.index, "metallicRoughnessTexture", "metallic/roughness factors used");
-      tex(gm.emissiveTexture.index, "emissiveTexture", "emissiveFactor used");
-      tex(gm.normalTexture.index, "normalTexture", "vertex normals used");
-      tex(gm.occlusionTexture.index, "occlusionTexture", "no ambient occlusion");
+      out.base_color_texture = texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                           pbr.baseColorTexture.extensions, pp + "/baseColorTexture");
+      out.metallic_roughness_texture =
+          texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                      pbr.metallicRoughnessTexture.extensions, pp + "/metallicRoughnessTexture");
+      out.emissive_texture = texture_ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord,
+                                         gm.emissiveTexture.extensions, mp + "/emissiveTexture");
+      out.normal_texture = texture_ref(gm.normalTexture.index, gm.normalTexture.texCoord,
+                                       gm.normalTexture.extensions, mp + "/normalTexture");
+      if (out.normal_texture.present())
+        out.normal_texture.normal_scale = finite_float(gm.normalTexture.scale, mp + "/normalTexture/scale");
+      if (gm.occlusionTexture.index >= 0)
+        warn(mp + " (" + out.name + "): occlusionTexture ignored: a path tracer needs no ambient occlusion");
       if (gm.alphaMode != "OPAQUE" || alpha < 1.0f)
         warn(mp + " (" + out.name + "): alphaMode " + gm.alphaMode + " with alpha " + std::to_string(alpha) +
              " ignored: the surface is opaque");
@@ -811,6 +839,7 @@ class Importer {
   std::string scene_path_ = "/scenes/0";
   std::map<std::pair<std::size_t, std::size_t>, std::uint32_t> mesh_cache_;
   std::map<int, std::uint32_t> material_cache_;
+  std::map<int, std::uint32_t> image_cache_;
   bool camera_found_ = false;
   std::string camera_node_;
 };

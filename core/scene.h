@@ -17,7 +17,30 @@ struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  // empty, or one per position
   std::vector<std::uint32_t> indices;  // triangle list, counter-clockwise = front
+  std::vector<glm::vec2> uvs;       // TEXCOORD_0: empty, or one per position
+  std::vector<glm::vec4> tangents;  // glTF TANGENT: xyz object-space tangent, w = ±1 the
+                                    // bitangent's sign; empty, or one per position
   std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// A decoded texture image: RGBA8, rows top to bottom (glTF's uv (0, 0) is the
+// image's top-left corner).
+struct TextureImage {
+  std::string name;
+  std::uint32_t width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;  // width · height · 4 bytes
+};
+
+// A material's reference to a texture (glTF textureInfo with its sampler's
+// wrap modes and KHR_texture_transform).
+struct TextureRef {
+  std::int32_t image = -1;  // into Scene::images; -1: no texture
+  std::uint32_t wrap_s = 0, wrap_t = 0;  // core/shared/texture_sampling.h TEXTURE_WRAP_*
+  glm::vec2 offset{0.0f};
+  float rotation = 0.0f;  // radians, counter-clockwise
+  glm::vec2 scale{1.0f};
+  float normal_scale = 1.0f;  // normalTexture.scale
+  bool present() const { return image >= 0; }
 };
 
 struct Material {
@@ -27,6 +50,13 @@ struct Material {
   float perceptual_roughness = 0.5f;
   float reflectance = 0.5f;  // 0.5 → F0 = 4% (Filament's convention)
   glm::vec3 emissive{0.0f};  // radiance of the front face
+  // glTF's rule: each factor above times its texture (base colour and
+  // emissive sRGB; metallic in B, roughness in G).
+  TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture;
+  bool textured() const {
+    return base_color_texture.present() || metallic_roughness_texture.present() || normal_texture.present() ||
+           emissive_texture.present();
+  }
 };
 
 struct Instance {
@@ -58,6 +88,7 @@ struct Scene {
   std::string name;
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
+  std::vector<TextureImage> images;  // what the materials' TextureRefs point at
   std::vector<Instance> instances;
   std::vector<DirectionalLight> directional_lights;
   Camera camera;

@@ -47,6 +47,33 @@ std::vector<std::uint32_t> morton_sorted_indices(const Mesh& mesh) {
   return sorted;
 }
 
+shader::GpuTextureSlot flatten_texture_slot(const TextureRef& t) {
+  shader::GpuTextureSlot slot{};
+  // KHR_texture_transform: uv' = offset + R(rotation) · (scale ∘ uv), with
+  // R = [cos sin; −sin cos], which its example (offset [0, 1], rotation π/2,
+  // scale ½ → the lower-left quadrant turned clockwise) pins down.
+  const float c = std::cos(t.rotation), s = std::sin(t.rotation);
+  slot.transform_u = glm::vec4(c * t.scale.x, s * t.scale.y, t.offset.x, t.normal_scale);
+  slot.transform_v = glm::vec4(-s * t.scale.x, c * t.scale.y, t.offset.y, 0.0f);
+  slot.image_wrap = glm::uvec4(t.present() ? std::uint32_t(t.image) : shader::TEXTURE_NONE, t.wrap_s, t.wrap_t, 0u);
+  return slot;
+}
+
+// Every image's texels in one array, RGBA8 packed R-low.
+void flatten_images(const Scene& scene, FlatGeometry& g) {
+  for (const TextureImage& image : scene.images) {
+    GpuTextureImage gi{};
+    gi.first_width_height = glm::uvec4(std::uint32_t(g.texels.size()), image.width, image.height, 0u);
+    g.texture_images.push_back(gi);
+    const std::size_t n = std::size_t(image.width) * image.height;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t* p = &image.rgba[4 * i];
+      g.texels.push_back(std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+                         std::uint32_t(p[3]) << 24);
+    }
+  }
+}
+
 }  // namespace
 
 FlatGeometry flatten_geometry(const Scene& scene) {
@@ -58,16 +85,24 @@ FlatGeometry flatten_geometry(const Scene& scene) {
     r.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
     r.vertex_count = static_cast<std::uint32_t>(mesh.positions.size());
     const bool has_normals = mesh.normals.size() == mesh.positions.size();
+    const bool has_uvs = mesh.uvs.size() == mesh.positions.size();
+    const bool has_tangents = mesh.tangents.size() == mesh.positions.size();
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       GpuVertex v;
       v.position = glm::vec4(mesh.positions[i], 1.0f);
       v.normal = has_normals ? glm::vec4(mesh.normals[i], 1.0f) : glm::vec4(0.0f);
       g.vertices.push_back(v);
+      if (scene.images.empty()) continue;
+      GpuVertexAttributes a{};
+      a.uv = has_uvs ? glm::vec4(mesh.uvs[i], 0.0f, 0.0f) : glm::vec4(0.0f);
+      a.tangent = has_tangents ? mesh.tangents[i] : glm::vec4(0.0f);
+      g.vertex_attributes.push_back(a);
     }
     std::vector<std::uint32_t> sorted = morton_sorted_indices(mesh);
     g.indices.insert(g.indices.end(), sorted.begin(), sorted.end());
     g.meshes.push_back(r);
   }
+  flatten_images(scene, g);
   return g;
 }
 
@@ -77,8 +112,16 @@ FlatInstances flatten_instances(const Scene& scene, const FlatGeometry& geometry
     GpuMaterial g;
     g.base_color_metallic = glm::vec4(m.base_color, m.metallic);
     g.emissive_perceptual_roughness = glm::vec4(m.emissive, m.perceptual_roughness);
-    g.reflectance = glm::vec4(m.reflectance, static_cast<float>(scene.brdf_model), 0.0f, 0.0f);
+    const bool textured = !scene.images.empty() && m.textured();
+    g.reflectance = glm::vec4(m.reflectance, static_cast<float>(scene.brdf_model), textured ? 1.0f : 0.0f, 0.0f);
     f.materials.push_back(g);
+    if (scene.images.empty()) continue;
+    GpuMaterialTextures t{};
+    t.slots[shader::TEXTURE_SLOT_BASE_COLOR] = flatten_texture_slot(m.base_color_texture);
+    t.slots[shader::TEXTURE_SLOT_METALLIC_ROUGHNESS] = flatten_texture_slot(m.metallic_roughness_texture);
+    t.slots[shader::TEXTURE_SLOT_NORMAL] = flatten_texture_slot(m.normal_texture);
+    t.slots[shader::TEXTURE_SLOT_EMISSIVE] = flatten_texture_slot(m.emissive_texture);
+    f.material_textures.push_back(t);
   }
   for (const DirectionalLight& d : scene.directional_lights) {
     if (!d.enabled || d.illuminance <= 0.0f || glm::dot(d.color, d.color) <= 0.0f) continue;

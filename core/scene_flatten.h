@@ -16,6 +16,9 @@ using shader::GpuInstance;
 using shader::GpuLight;
 using shader::GpuMaterial;
 using shader::GpuVertex;
+using shader::GpuVertexAttributes;
+using shader::GpuMaterialTextures;
+using shader::GpuTextureImage;
 
 static_assert(sizeof(GpuVertex) == 32);
 static_assert(sizeof(GpuInstance) == 160);
@@ -23,6 +26,9 @@ static_assert(sizeof(GpuMaterial) == 48);
 static_assert(sizeof(GpuLight) == 48);
 static_assert(sizeof(GpuCamera) == 64);
 static_assert(sizeof(FrameConstants) == 160);
+static_assert(sizeof(GpuVertexAttributes) == 32);
+static_assert(sizeof(GpuMaterialTextures) == 192);
+static_assert(sizeof(GpuTextureImage) == 16);
 
 struct MeshRange {
   std::uint32_t first_index = 0;
@@ -36,11 +42,17 @@ struct FlatGeometry {
   std::vector<GpuVertex> vertices;
   std::vector<std::uint32_t> indices;  // per mesh, relative to its first_vertex
   std::vector<MeshRange> meshes;
+  // Textured scenes only (Scene::images not empty); else all three are empty
+  // and the renderers bind placeholders.
+  std::vector<GpuVertexAttributes> vertex_attributes;  // parallel to vertices
+  std::vector<GpuTextureImage> texture_images;
+  std::vector<std::uint32_t> texels;  // RGBA8, R in the low byte
 };
 
 struct FlatInstances {
   std::vector<GpuInstance> instances;  // one per Scene::instances entry, hidden ones included
   std::vector<GpuMaterial> materials;
+  std::vector<GpuMaterialTextures> material_textures;  // parallel to materials; empty without images
   std::vector<GpuLight> lights;        // directional lights first
   std::uint32_t directional_light_count = 0;
 };

@@ -80,7 +80,11 @@ std::vector<DescriptorBinding> scene_descriptor_bindings() {
           {BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
           {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
           {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
-          {BINDING_DFG_LUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+          {BINDING_DFG_LUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_VERTEX_ATTRIBUTES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_MATERIAL_TEXTURES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_TEXTURE_IMAGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+          {BINDING_TEXELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
 }
 
 DescriptorBinding previous_scene_descriptor_binding() {
@@ -258,6 +262,12 @@ void ComputePass::bind_scene(const SceneResources& scene) {
   bind_buffer(BINDING_FRAME, *scene.frame);
   if (!scene.dfg_lut) throw DeviceError(fmt::format("pass '{}': bound without the DFG table", name_));
   bind_buffer(BINDING_DFG_LUT, *scene.dfg_lut);
+  if (!scene.vertex_attributes || !scene.material_textures || !scene.texture_images || !scene.texels)
+    throw DeviceError(fmt::format("pass '{}': bound without the material-texture buffers", name_));
+  bind_buffer(BINDING_VERTEX_ATTRIBUTES, *scene.vertex_attributes);
+  bind_buffer(BINDING_MATERIAL_TEXTURES, *scene.material_textures);
+  bind_buffer(BINDING_TEXTURE_IMAGES, *scene.texture_images);
+  bind_buffer(BINDING_TEXELS, *scene.texels);
 }
 
 void ComputePass::bind_previous_scene(const SceneResources& scene) {

@@ -44,6 +44,12 @@ struct SceneResources {
   // its TLAS (rayquery) or BVH node array (bvh).
   VkAccelerationStructureKHR previous_tlas = VK_NULL_HANDLE;
   const Buffer* previous_bvh_nodes = nullptr;
+  // Material textures (gpu/scene_texture_buffers.h): placeholders when the
+  // scene has none.
+  const Buffer* vertex_attributes = nullptr;
+  const Buffer* material_textures = nullptr;
+  const Buffer* texture_images = nullptr;
+  const Buffer* texels = nullptr;
 };
 
 // The binding of last frame's scene (a pass that traces it lists it; on a

@@ -40,6 +40,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
                                     geometry.indices.size() * sizeof(std::uint32_t), "indices")),
       frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
       dfg_lut_(make_dfg_lut_buffer(device)),
+      textures_(device),
       compiler_(compiler),
       timer_(device) {
   if (options.width == 0 || options.height == 0)
@@ -55,6 +56,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
   }
   mesh_ranges_ = geometry.meshes;
   triangle_count_ = geometry.indices.size() / 3;
+  textures_.update_geometry(geometry);
   const std::size_t pixels = pixel_count();
   if (options_.timing_calibration) {
     calibration_.emplace(device, compiler);
@@ -138,6 +140,7 @@ void Renderer::update_geometry(const FlatGeometry& geometry) {
   indices_ = make_geometry_buffer(device_, geometry.indices.data(), geometry.indices.size() * sizeof(std::uint32_t),
                                   "indices");
   bindings_dirty_ = true;
+  textures_.update_geometry(geometry);
   if (as_) as_->add_meshes(geometry, vertices_, indices_);
   if (bvh_) bvh_->add_meshes(geometry);
   mesh_ranges_ = geometry.meshes;
@@ -154,6 +157,7 @@ void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>&
   instances_.upload(scene.instances);
   materials_.upload(scene.materials);
   lights_.upload(scene.lights);
+  if (textures_.update_materials(scene)) bindings_dirty_ = true;
   if (as_) as_->update(scene.instances, visible);
   if (bvh_) bvh_->update(scene.instances, visible);
   if (options_.gbuffer) {  // instance ID ranges follow the visible set
@@ -172,6 +176,7 @@ void Renderer::bind_passes() {
   SceneResources scene{as_ ? as_->tlas() : VK_NULL_HANDLE, &vertices_, &indices_, &instances_, &materials_,
                        &lights_, &frame_};
   scene.dfg_lut = &dfg_lut_;
+  textures_.add_to(scene);
   if (bvh_) {
     scene.bvh_nodes = &bvh_->nodes();
     scene.bvh_triangles = &bvh_->triangles();

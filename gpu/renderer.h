@@ -34,6 +34,7 @@
 #include "gpu/passes/primary_visibility.h"
 #include "gpu/passes/reference_path_trace.h"
 #include "gpu/passes/timing_calibration.h"
+#include "gpu/scene_texture_buffers.h"
 #include "gpu/passes/world_cache.h"
 #include "gpu/state_buffers.h"
 #include "gpu/timer.h"
@@ -167,6 +168,7 @@ class Renderer {
   std::optional<BvhBuffers> bvh_;             // bvh backend
   Buffer instances_, materials_, lights_, frame_;
   Buffer dfg_lut_;  // make_dfg_lut_buffer, once per renderer
+  SceneTextureBuffers textures_;
   Buffer visibility_, depth_, gbuffer_;
   Buffer reference_a_, reference_b_, nonfinite_;
   std::optional<HostMirror> nonfinite_host_;  // copied at the end of each frame

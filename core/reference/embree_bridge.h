@@ -53,6 +53,10 @@ struct EmbreeBridge {
     b.lights = flat.lights.data();
     b.light_count = static_cast<uint>(flat.lights.size());
     b.directional_count = flat.directional_light_count;
+    b.vertex_attributes = geometry.vertex_attributes.data();
+    b.material_textures = flat.material_textures.data();
+    b.texture_images = geometry.texture_images.data();
+    b.texels = geometry.texels.data();
     b.rtc = scene;
     return b;
   }
@@ -62,6 +66,10 @@ struct EmbreeBridge {
   const GpuVertex* vertices = nullptr;
   const uint* indices = nullptr;
   const GpuLight* lights = nullptr;
+  const GpuVertexAttributes* vertex_attributes = nullptr;
+  const GpuMaterialTextures* material_textures = nullptr;
+  const GpuTextureImage* texture_images = nullptr;
+  const uint* texels = nullptr;
   uint light_count = 0;
   uint directional_count = 0;
   RTCScene rtc = nullptr;
@@ -74,6 +82,10 @@ struct EmbreeBridge {
   GpuLight scene_light(uint i) const { return lights[i]; }
   uint scene_light_count() const { return light_count; }
   uint scene_directional_light_count() const { return directional_count; }
+  GpuVertexAttributes scene_vertex_attributes(uint i) const { return vertex_attributes[i]; }
+  GpuMaterialTextures scene_material_textures(uint i) const { return material_textures[i]; }
+  GpuTextureImage scene_texture_image(uint i) const { return texture_images[i]; }
+  uint scene_texel(uint i) const { return texels[i]; }
 
   bool trace_closest(vec3 origin, vec3 dir, float tmax, Hit& hit) {
     ++rays;

@@ -18,7 +18,7 @@ GI_FN vec3 direct_trace(vec3 origin, vec3 direction, INOUT(uint) rng) {
   vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
   vec3 ns = dot(s.shading_normal, ng) < 0.0f ? -s.shading_normal : s.shading_normal;
   vec3 v = -direction;
-  BrdfParams brdf = material_brdf(s.material);
+  BrdfParams brdf = surface_brdf(s);
   vec3 spawn = offset_ray_origin(s.position, ng);
   add_next_event(brdf, s.position, ng, ns, v, spawn, vec3(1.0f), MIS_NONE, radiance, rng);
   return radiance;

@@ -110,10 +110,12 @@ GI_FN vec3 escaped_radiance(vec3 dir, float brdf_pdf_value) {
   return sum;
 }
 
-GI_FN BrdfParams material_brdf(uint material) {
-  GpuMaterial m = scene_material(material);
-  return brdf_params(vec3(m.base_color_metallic), m.base_color_metallic.w,
-                     m.emissive_perceptual_roughness.w, m.reflectance.x, uint(m.reflectance.y));
+// The BRDF at a surface point: its textured colour, metallic and roughness,
+// the material's reflectance and model.
+GI_FN BrdfParams surface_brdf(SurfacePoint s) {
+  GpuMaterial m = scene_material(s.material);
+  return brdf_params(vec3(s.base_color_metallic), s.base_color_metallic.w, s.perceptual_roughness, m.reflectance.x,
+                     uint(m.reflectance.y));
 }
 
 // Radiance along one camera ray. max_bounces caps the path length (Russian
@@ -143,7 +145,7 @@ GI_FN vec3 path_trace(vec3 origin, vec3 direction, INOUT(uint) rng, uint max_bou
     vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
     vec3 ns = dot(s.shading_normal, ng) < 0.0f ? -s.shading_normal : s.shading_normal;
     vec3 v = -direction;
-    BrdfParams brdf = material_brdf(s.material);
+    BrdfParams brdf = surface_brdf(s);
     vec3 spawn = offset_ray_origin(s.position, ng);
 
     add_next_event(brdf, s.position, ng, ns, v, spawn, throughput, MIS_BALANCE, radiance, rng);

@@ -9,8 +9,56 @@
 //   GpuVertex   scene_vertex(uint i);     uint        scene_index(uint i);
 //   GpuLight    scene_light(uint i);      uint        scene_light_count();
 //   uint        scene_directional_light_count();
+//   GpuVertexAttributes scene_vertex_attributes(uint i);    (textured materials only)
+//   GpuMaterialTextures scene_material_textures(uint i);
+//   GpuTextureImage     scene_texture_image(uint i);
+//   uint                scene_texel(uint i);                 RGBA8 (texture_sampling.h)
 // No include guard on purpose (C++ includes it into each bridge struct);
 // GLSL includes it once.
+
+// A texture slot's value at uv (texture_sampling.h: mip 0, bilinear).
+GI_FN vec4 sample_texture(GpuTextureSlot slot, vec2 uv, bool srgb) {
+  BilinearFootprint f = bilinear_footprint(scene_texture_image(slot.image_wrap.x), slot, texture_transform(slot, uv));
+  return bilinear_blend(decode_texel(scene_texel(f.texel.x), srgb), decode_texel(scene_texel(f.texel.y), srgb),
+                        decode_texel(scene_texel(f.texel.z), srgb), decode_texel(scene_texel(f.texel.w), srgb),
+                        f.weight);
+}
+
+// glTF's rule: each factor times its texture. The normal map bends the
+// interpolated vertex normal (the geometric one on meshes without normals);
+// the tangent follows the object-to-world transform, its sign flips with a
+// mirroring one (as Bevy's mesh_tangent_local_to_world).
+GI_FN void apply_material_textures(INOUT(SurfacePoint) s, GpuInstance inst, uint base, vec2 bary, float b0) {
+  GpuMaterialTextures t = scene_material_textures(s.material);
+  uint i0 = inst.first_vertex + scene_index(base);
+  uint i1 = inst.first_vertex + scene_index(base + 1u);
+  uint i2 = inst.first_vertex + scene_index(base + 2u);
+  GpuVertexAttributes a0 = scene_vertex_attributes(i0);
+  GpuVertexAttributes a1 = scene_vertex_attributes(i1);
+  GpuVertexAttributes a2 = scene_vertex_attributes(i2);
+  vec2 uv = b0 * vec2(a0.uv) + bary.x * vec2(a1.uv) + bary.y * vec2(a2.uv);
+  GpuTextureSlot slot = t.slots[TEXTURE_SLOT_BASE_COLOR];
+  if (slot.image_wrap.x != TEXTURE_NONE) {
+    vec4 c = sample_texture(slot, uv, true);
+    s.base_color_metallic = vec4(vec3(s.base_color_metallic) * vec3(c), s.base_color_metallic.w);
+  }
+  slot = t.slots[TEXTURE_SLOT_METALLIC_ROUGHNESS];
+  if (slot.image_wrap.x != TEXTURE_NONE) {
+    vec4 c = sample_texture(slot, uv, false);
+    s.perceptual_roughness *= c.y;
+    s.base_color_metallic.w *= c.z;
+  }
+  slot = t.slots[TEXTURE_SLOT_EMISSIVE];
+  if (slot.image_wrap.x != TEXTURE_NONE) s.emissive *= vec3(sample_texture(slot, uv, true));
+  slot = t.slots[TEXTURE_SLOT_NORMAL];
+  if (slot.image_wrap.x != TEXTURE_NONE && a0.tangent.w != 0.0f) {
+    vec3 tangent = b0 * vec3(a0.tangent) + bary.x * vec3(a1.tangent) + bary.y * vec3(a2.tangent);
+    tangent = mat3(inst.object_to_world) * tangent;
+    float sign = a0.tangent.w * (determinant(mat3(inst.object_to_world)) < 0.0f ? -1.0f : 1.0f);
+    vec3 texel = vec3(sample_texture(slot, uv, false));
+    s.shading_normal = perturb_normal(s.shading_normal, tangent, sign, texel, slot.transform_u.w);
+  }
+}
 
 GI_FN SurfacePoint surface_at(uint instance_index, uint primitive, vec2 bary) {
   GpuInstance inst = scene_instance(instance_index);
@@ -39,6 +87,9 @@ GI_FN SurfacePoint surface_at(uint instance_index, uint primitive, vec2 bary) {
   s.material = inst.material;
   GpuMaterial m = scene_material(inst.material);
   s.emissive = vec3(m.emissive_perceptual_roughness) * vec3(inst.emissive_scale);
+  s.base_color_metallic = m.base_color_metallic;
+  s.perceptual_roughness = m.emissive_perceptual_roughness.w;
+  if (m.reflectance.z != 0.0f) apply_material_textures(s, inst, base, bary, b0);
   return s;
 }
 

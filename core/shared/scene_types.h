@@ -5,6 +5,7 @@
 #ifndef GI_SHARED_SCENE_TYPES_H
 #define GI_SHARED_SCENE_TYPES_H
 #include "host_device.h"
+#include "texture_sampling.h"
 
 GI_SHADER_BEGIN
 
@@ -29,7 +30,8 @@ struct GpuMaterial {
   vec4 base_color_metallic;             // rgb base colour, a metallic
   vec4 emissive_perceptual_roughness;   // rgb emissive radiance, a perceptual roughness
   vec4 reflectance;                     // x reflectance (0.5 = 4% F0), y the material model
-                                        // (brdf.h BRDF_*, Scene::brdf_model), zw unused
+                                        // (brdf.h BRDF_*, Scene::brdf_model), z 1 if the
+                                        // material has textures (GpuMaterialTextures), w unused
 };
 
 GI_CONST uint LIGHT_KIND_EMISSIVE_MESH = 0u;
@@ -85,6 +87,9 @@ struct SurfacePoint {
   float area;             // world-space area of the triangle
   vec3 emissive;          // radiance emitted from the front face
   uint material;
+  // The material at this point: its factors times its textures there.
+  vec4 base_color_metallic;  // rgb base colour, a metallic
+  float perceptual_roughness;
 };
 
 GI_CONST float RAY_TMAX = 1e20f;

@@ -64,15 +64,14 @@ GI_FN uint hit_mis_heuristic() { return HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BAL
 // towards where it came from, ray_t the length of the ray that found s.
 GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray_t, CacheQuery q,
                              INOUT(uint) rng) {
-  GpuMaterial m = scene_material(s.material);
 #if HIT_ALBEDO_BASE != 0 && HIT_SURFACES_FULL == 0
   // ("full" models the lobes itself: the diffuse colour plus the specular albedo.)
-  vec3 albedo = vec3(m.base_color_metallic);
+  vec3 albedo = vec3(s.base_color_metallic);
 #else
-  vec3 albedo = vec3(m.base_color_metallic) * (1.0f - m.base_color_metallic.w);
+  vec3 albedo = vec3(s.base_color_metallic) * (1.0f - s.base_color_metallic.w);
 #endif
 #if HIT_SURFACES_FULL != 0
-  BrdfParams brdf = material_brdf(s.material);
+  BrdfParams brdf = surface_brdf(s);
   if (brdf_has_specular(brdf) && dot(ns, v) > 0.0f) {
     vec3 l = to_world(sample_ggx_bounded_vndf(from_world(v, ns), brdf.alpha, rng_next_vec2(rng)), ns);
     if (dot(l, ns) > 0.0f) albedo += specular_sample_weight(brdf, ns, v, l);
@@ -166,7 +165,7 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     vec3 hng = front ? s.geometric_normal : -s.geometric_normal;
     vec3 hns = dot(s.shading_normal, hng) < 0.0f ? -s.shading_normal : s.shading_normal;
     vec3 v = -dir;
-    BrdfParams brdf = material_brdf(s.material);
+    BrdfParams brdf = surface_brdf(s);
     bool last = vertex + 1u >= uint(HIT_GLOSSY_BOUNCES);
     // HIT_SURFACES_FULL ends the path at its last vertex in the cache, which
     // holds that vertex's direct light too: no NEE there.

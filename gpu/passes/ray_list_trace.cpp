@@ -49,6 +49,7 @@ RayListTrace::RayListTrace(Device& device, ShaderCompiler& compiler, const FlatG
       lights_(make_buffer(device, flat.lights, kStorage, "lights")),
       frame_(device, sizeof(FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame constants", BufferMemory::host_write),
       dfg_lut_(make_dfg_lut_buffer(device)),
+      textures_(device),
       pass_(make_pass(device, compiler)),
       timer_(device) {
   FrameConstants frame{};
@@ -64,6 +65,9 @@ RayListTrace::RayListTrace(Device& device, ShaderCompiler& compiler, const FlatG
   SceneResources scene{as_ ? as_->tlas() : VK_NULL_HANDLE, &vertices_, &indices_, &instances_, &materials_,
                        &lights_, &frame_};
   scene.dfg_lut = &dfg_lut_;
+  textures_.update_geometry(geometry);
+  textures_.update_materials(flat);
+  textures_.add_to(scene);
   if (bvh_) {
     scene.bvh_nodes = &bvh_->nodes();
     scene.bvh_triangles = &bvh_->triangles();

@@ -12,6 +12,7 @@
 #include "core/scene_flatten.h"
 #include "gpu/acceleration_structures.h"
 #include "gpu/buffer.h"
+#include "gpu/scene_texture_buffers.h"
 #include "gpu/bvh_buffers.h"
 #include "gpu/compute_pass.h"
 #include "gpu/passes/ray_list_trace_types.h"
@@ -40,6 +41,7 @@ class RayListTrace {
  private:
   Device& device_;
   Buffer vertices_, indices_, instances_, materials_, lights_, frame_, dfg_lut_;
+  SceneTextureBuffers textures_;
   std::optional<AccelerationStructures> as_;
   std::optional<BvhBuffers> bvh_;
   ComputePass pass_;

@@ -19,6 +19,13 @@ GI_CONST uint BINDING_MATERIALS = 4u;         // GpuMaterial[]
 GI_CONST uint BINDING_LIGHTS = 5u;            // GpuLight[]
 GI_CONST uint BINDING_FRAME = 6u;             // uniform FrameConstants
 GI_CONST uint SCENE_BINDING_COUNT = 7u;
+// Material textures (core/shared/texture_sampling.h), bound with the scene for
+// every pass; 16-byte placeholders in a scene without textures, which never
+// reads them.
+GI_CONST uint BINDING_VERTEX_ATTRIBUTES = 16u;   // GpuVertexAttributes[], parallel to the vertices
+GI_CONST uint BINDING_MATERIAL_TEXTURES = 17u;   // GpuMaterialTextures[], parallel to the materials
+GI_CONST uint BINDING_TEXTURE_IMAGES = 18u;      // GpuTextureImage[]
+GI_CONST uint BINDING_TEXELS = 19u;              // uint[] RGBA8
 // BRDF_LAYERED's DFG table (core/shared/dfg_lut.h): bound with the scene for
 // every pass; a buffer, as a constant array indexed per invocation is copied
 // per invocation on lavapipe (minutes per frame).

@@ -88,8 +88,8 @@ void main() {
     g.position_depth = vec4(s.position, depth[index]);
     g.geometric_normal = vec4(s.geometric_normal, 1.0);
     g.shading_normal = vec4(s.shading_normal, m.reflectance.y);  // w: the material model (gbuffer.h)
-    g.base_color_metallic = m.base_color_metallic;
-    g.emissive_roughness = vec4(s.emissive, m.emissive_perceptual_roughness.w);
+    g.base_color_metallic = s.base_color_metallic;
+    g.emissive_roughness = vec4(s.emissive, s.perceptual_roughness);
     vec2 previous;
     bool valid = camera_project(frame.previous_camera, s.position, resolution, previous);
     vec2 motion = valid ? previous - (vec2(pixel) + vec2(0.5)) : vec2(0.0);

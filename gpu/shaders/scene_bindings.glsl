@@ -29,6 +29,16 @@ layout(std430, set = 0, binding = BINDING_INSTANCES) readonly buffer SceneInstan
 layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer SceneMaterials { GpuMaterial scene_materials[]; };
 layout(std430, set = 0, binding = BINDING_LIGHTS) readonly buffer SceneLights { GpuLight scene_lights[]; };
 layout(std140, set = 0, binding = BINDING_FRAME) uniform Frame { FrameConstants frame; };
+layout(std430, set = 0, binding = BINDING_VERTEX_ATTRIBUTES) readonly buffer SceneVertexAttributes {
+  GpuVertexAttributes scene_vertex_attribute_array[];
+};
+layout(std430, set = 0, binding = BINDING_MATERIAL_TEXTURES) readonly buffer SceneMaterialTextures {
+  GpuMaterialTextures scene_material_texture_array[];
+};
+layout(std430, set = 0, binding = BINDING_TEXTURE_IMAGES) readonly buffer SceneTextureImages {
+  GpuTextureImage scene_texture_image_array[];
+};
+layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer SceneTexels { uint scene_texel_array[]; };
 
 GpuInstance scene_instance(uint i) { return scene_instances[i]; }
 GpuMaterial scene_material(uint i) { return scene_materials[i]; }
@@ -37,6 +47,10 @@ uint scene_index(uint i) { return scene_indices[i]; }
 GpuLight scene_light(uint i) { return scene_lights[i]; }
 uint scene_light_count() { return frame.counts.x; }
 uint scene_directional_light_count() { return frame.counts.y; }
+GpuVertexAttributes scene_vertex_attributes(uint i) { return scene_vertex_attribute_array[i]; }
+GpuMaterialTextures scene_material_textures(uint i) { return scene_material_texture_array[i]; }
+GpuTextureImage scene_texture_image(uint i) { return scene_texture_image_array[i]; }
+uint scene_texel(uint i) { return scene_texel_array[i]; }
 
 #ifdef TRACE_BACKEND_BVH
 #include "gpu/shaders/trace_bvh.glsl"

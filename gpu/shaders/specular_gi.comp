@@ -64,7 +64,7 @@ vec3 trace_glossy_path_cache_every_vertex(vec3 position, vec3 ng, vec3 dir, uint
     vec3 hns = dot(s.shading_normal, hng) < 0.0 ? -s.shading_normal : s.shading_normal;
     vec3 v = -dir;
     radiance += throughput * end_path_radiance(s, hng, hns, v, hit.t, q, rng);
-    BrdfParams brdf = material_brdf(s.material);
+    BrdfParams brdf = surface_brdf(s);
     if (brdf.alpha > 0.1 && vertex != 0u) break;
     q.first_bounce = 0u;
     vec3 l = to_world(sample_ggx_bounded_vndf(from_world(v, hns), brdf.alpha, rng_next_vec2(rng)), hns);

@@ -54,8 +54,7 @@ void main() {
 #else
     // Solari's formula as it was (ρ · E, not π · ρ/π · E through
     // end_path_radiance), so the diffuse cache keeps its bits and baselines.
-    GpuMaterial m = scene_material(s.material);
-    vec3 diffuse = m.base_color_metallic.rgb * (1.0 - m.base_color_metallic.a);
+    vec3 diffuse = s.base_color_metallic.rgb * (1.0 - s.base_color_metallic.a);
     irradiance = diffuse * world_cache_query(hit_position, hit_normal, hit.t, false, life, state.y, cell, 0u, rng);
 #endif
   }
