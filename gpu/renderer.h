@@ -58,6 +58,10 @@ struct RendererOptions {
   // The timing calibration kernel last in every frame (gpu/passes/timing_calibration.h):
   // the run sets it on a CPU device, where pass times need it to compare.
   bool timing_calibration = false;
+  // How the realtime passes read normal maps (core/shared/texture_sampling.h
+  // NORMAL_MAP_DECODE_*, the profile's textures.normal_map_decode); the
+  // reference path tracer always decodes them as glTF says.
+  std::uint32_t normal_map_decode = 2;
 };
 
 class Renderer {

@@ -48,6 +48,13 @@ gpu::DiSettings di_settings_from_profile(const Profile& p, const FlatInstances& 
   return s;
 }
 
+std::uint32_t normal_map_decode_from_profile(const Profile& p) {
+  const std::string& decode = p.text("textures.normal_map_decode");
+  if (decode == "raw") return shader::NORMAL_MAP_DECODE_RAW;
+  if (decode == "none") return shader::NORMAL_MAP_DECODE_NONE;
+  return shader::NORMAL_MAP_DECODE_SIGNED;
+}
+
 std::uint32_t brdf_model_from_profile(const Profile& p) {
   const std::string& model = p.text("brdf.model");
   if (model == "multiscatter_approx") return shader::BRDF_MULTISCATTER_APPROX;

@@ -22,6 +22,10 @@ gpu::DiSettings di_settings_from_profile(const Profile& profile, const FlatInsta
 // encoding its direct samples see); the instrumentation flags are the caller's.
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& profile);
 
+// The profile's textures.normal_map_decode as a NORMAL_MAP_DECODE_* of
+// core/shared/texture_sampling.h (the realtime passes' normal maps).
+std::uint32_t normal_map_decode_from_profile(const Profile& profile);
+
 // The profile's brdf.model as a BRDF_* of core/shared/brdf.h.
 std::uint32_t brdf_model_from_profile(const Profile& profile);
 

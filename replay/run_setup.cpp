@@ -90,6 +90,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
                                     gi && profile.flag("specular.enabled"));
     r.di->background = initial.background;
+    r.normal_map_decode = normal_map_decode_from_profile(profile);
   }
   if (gi) {
     r.gi = gi_settings_from_profile(profile, chains);

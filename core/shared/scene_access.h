@@ -50,14 +50,21 @@ GI_FN void apply_material_textures(INOUT(SurfacePoint) s, GpuInstance inst, uint
   }
   slot = t.slots[TEXTURE_SLOT_EMISSIVE];
   if (slot.image_wrap.x != TEXTURE_NONE) s.emissive *= vec3(sample_texture(slot, uv, true));
+#if NORMAL_MAP_DECODE != 0
   slot = t.slots[TEXTURE_SLOT_NORMAL];
   if (slot.image_wrap.x != TEXTURE_NONE && a0.tangent.w != 0.0f) {
     vec3 tangent = b0 * vec3(a0.tangent) + bary.x * vec3(a1.tangent) + bary.y * vec3(a2.tangent);
     tangent = mat3(inst.object_to_world) * tangent;
     float sign = a0.tangent.w * (determinant(mat3(inst.object_to_world)) < 0.0f ? -1.0f : 1.0f);
     vec3 texel = vec3(sample_texture(slot, uv, false));
-    s.shading_normal = perturb_normal(s.shading_normal, tangent, sign, texel, slot.transform_u.w);
+#if NORMAL_MAP_DECODE == 1
+    // Solari through v0.19.0: the texel itself, unscaled (#24880 fixed it).
+    s.shading_normal = perturb_normal(s.shading_normal, tangent, sign, texel, 1.0f);
+#else
+    s.shading_normal = perturb_normal(s.shading_normal, tangent, sign, texel * 2.0f - vec3(1.0f), slot.transform_u.w);
+#endif
   }
+#endif
 }
 
 GI_FN SurfacePoint surface_at(uint instance_index, uint primitive, vec2 bary) {

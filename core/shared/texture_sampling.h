@@ -28,6 +28,19 @@ GI_CONST uint TEXTURE_SLOT_NORMAL = 2u;              // tangent space, +Y green
 GI_CONST uint TEXTURE_SLOT_EMISSIVE = 3u;
 GI_CONST uint TEXTURE_SLOT_COUNT = 4u;
 
+// How the realtime pipeline reads a normal map (profile textures.normal_map_decode):
+// SIGNED is glTF's texel · 2 − 1 (Bevy #24880, after v0.19.0); RAW the texel
+// itself as the tangent-space normal, as every release shipped it
+// (v0.19.0:scene/raytracing_scene_bindings.wgsl:218); NONE drops normal maps
+// (what a renderer that ignores them draws). References always decode SIGNED:
+// C++ never defines it, reference_path_trace.comp resets it.
+GI_CONST uint NORMAL_MAP_DECODE_NONE = 0u;
+GI_CONST uint NORMAL_MAP_DECODE_RAW = 1u;
+GI_CONST uint NORMAL_MAP_DECODE_SIGNED = 2u;
+#ifndef NORMAL_MAP_DECODE
+#define NORMAL_MAP_DECODE 2
+#endif
+
 struct GpuTextureImage {
   uvec4 first_width_height;  // x first texel, y width, z height, w unused
 };
@@ -123,17 +136,16 @@ GI_FN vec4 bilinear_blend(vec4 c00, vec4 c10, vec4 c01, vec4 c11, vec2 weight) {
   return top + (bottom - top) * weight.y;
 }
 
-// A tangent-space normal map texel (already in [0, 1]) turned into a shading
-// normal: glTF's tangent frame (bitangent = cross(n, t) · sign), the map's xy
+// A tangent-space normal `m` (a decoded normal-map texel) turned into a
+// shading normal: glTF's tangent frame (bitangent = cross(n, t) · sign), m's xy
 // scaled by normalTexture.scale. The tangent is made orthogonal to n first, as
 // MikkTSpace's consumers do.
-GI_FN vec3 perturb_normal(vec3 n, vec3 tangent, float bitangent_sign, vec3 texel, float scale) {
+GI_FN vec3 perturb_normal(vec3 n, vec3 tangent, float bitangent_sign, vec3 m, float scale) {
   vec3 t = tangent - n * dot(n, tangent);
   float tl = length(t);
   if (!(tl > 0.0f)) return n;
   t = t / tl;
   vec3 b = cross(n, t) * bitangent_sign;
-  vec3 m = texel * 2.0f - vec3(1.0f);
   vec3 p = t * (m.x * scale) + b * (m.y * scale) + n * m.z;
   float pl = length(p);
   return pl > 0.0f ? p / pl : n;

@@ -11,6 +11,10 @@
 // realtime output is compared with at equal time (replay/equal_time.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
+// The truth decodes normal maps as glTF says, whatever the realtime profile
+// compiled the other passes with (texture_sampling.h NORMAL_MAP_DECODE).
+#undef NORMAL_MAP_DECODE
+#define NORMAL_MAP_DECODE 2
 #include "gpu/shaders/scene_bindings.glsl"
 #ifdef REFERENCE_DIRECT_ONLY
 #include "core/shared/direct_integrator.h"
