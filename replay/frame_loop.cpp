@@ -82,7 +82,7 @@ void FrameLoop::resume() {
 // that many frames into the static window.
 void FrameLoop::apply_frame_events(std::uint32_t frame) {
   const ChangeSet changes = apply_events(scene_, setup_.initial, scenario_, frame);
-  if (changes.geometry) check_resource_limits(scenario_, scene_, device_.largest_heap_bytes());
+  if (changes.geometry) check_resource_limits(scenario_, scene_, device_.largest_heap_bytes(), device_.limits().maxStorageBufferRange);
   if (changes.geometry && scene_.meshes.size() != geometry_.meshes.size()) {
     geometry_ = flatten_geometry(scene_);
     renderer_->update_geometry(geometry_);

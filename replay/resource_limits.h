@@ -20,8 +20,13 @@ inline constexpr std::uint64_t kBytesPerTriangle = 256;
 
 std::uint64_t estimated_gpu_bytes(const Scenario& scenario, const Scene& scene);
 
+// The texels of every image, RGBA8 in one storage buffer (core/shared/texture_sampling.h).
+std::uint64_t texel_bytes(const Scene& scene);
+
 // Throws InputError when the scene or the resolution is over a limit;
-// heap_bytes = 0 skips the memory check (no device yet).
-void check_resource_limits(const Scenario& scenario, const Scene& scene, std::uint64_t heap_bytes);
+// heap_bytes = 0 skips the memory check and storage_range = 0 the texel
+// buffer's (no device yet).
+void check_resource_limits(const Scenario& scenario, const Scene& scene, std::uint64_t heap_bytes,
+                           std::uint64_t storage_range = 0);
 
 }  // namespace gi

@@ -27,7 +27,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 
   check_resource_limits(scenario, setup.initial, 0);
   gpu::Device device(options.device, gpu::parse_backend_request(options.backend));
-  check_resource_limits(scenario, setup.initial, device.largest_heap_bytes());
+  check_resource_limits(scenario, setup.initial, device.largest_heap_bytes(), device.limits().maxStorageBufferRange);
   FrameLoop loop(scenario, options, setup, device);
   loop.run();
 

@@ -176,3 +176,35 @@ TEST(BadInput, TooManyLightTriangles) {
 
 }  // namespace
 }  // namespace gi
+
+namespace gi {
+namespace {
+
+// Texels live in one storage buffer: more than the device's
+// maxStorageBufferRange is bad input before any upload.
+TEST(BadInput, TexturesLargerThanOneStorageBuffer) {
+  test::TempDir dir("large-textures");
+  const auto file = dir.path() / "textures.json";
+  std::ofstream(file) << R"({"name": "textures", "scene": {"generator": "cornell_box"}, "resolution": [8, 8],
+                             "frames": 1, "mode": "reference"})";
+  const Scenario scenario = load_scenario(file);
+  Scene scene = build_scene(scenario);
+  TextureImage image;
+  image.width = image.height = 1024;
+  image.rgba.assign(std::size_t(1024) * 1024 * 4, 255);
+  scene.images.push_back(image);
+  scene.images.push_back(image);
+  EXPECT_EQ(texel_bytes(scene), 8ull << 20);
+  EXPECT_GE(estimated_gpu_bytes(scenario, scene), 8ull << 20);
+  try {
+    check_resource_limits(scenario, scene, 0, (8ull << 20) - 1);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/scene");
+    EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(check_resource_limits(scenario, scene, 0, 8ull << 20));
+}
+
+}  // namespace
+}  // namespace gi

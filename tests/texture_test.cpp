@@ -319,11 +319,12 @@ TEST(GltfTextures, ANormalMapWithoutTangentsGetsMikkTSpaceTangents) {
     found = true;
     const gi::Mesh& m = s.meshes.at(i.mesh);
     ASSERT_EQ(m.tangents.size(), m.positions.size());
-    // The wall's u runs along +x, its v down (−y): tangent +x, and the
-    // bitangent cross(n, t)·w = (+z × +x)·w = +y·w points along +v, so w = −1.
+    // The wall's u runs along +x, its v down the wall (−y). A normal map's
+    // green is "up" in the image, which is −v in glTF's top-left uv origin,
+    // so the bitangent cross(n, t)·w = (+z × +x)·w = +y·w must be +y: w = +1.
     for (const glm::vec4& t : m.tangents) {
       EXPECT_LT(glm::length(glm::vec3(t) - glm::vec3(1, 0, 0)), 1e-5f);
-      EXPECT_EQ(t.w, -1.0f);
+      EXPECT_EQ(t.w, 1.0f);
     }
   }
   EXPECT_TRUE(found);
