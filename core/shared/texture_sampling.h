@@ -30,10 +30,12 @@ GI_CONST uint TEXTURE_SLOT_COUNT = 4u;
 
 // How the realtime pipeline reads a normal map (profile textures.normal_map_decode):
 // SIGNED is glTF's texel · 2 − 1 (Bevy #24880, after v0.19.0); RAW the texel
-// itself as the tangent-space normal, as every release shipped it
-// (v0.19.0:scene/raytracing_scene_bindings.wgsl:218); NONE drops normal maps
-// (what a renderer that ignores them draws). References always decode SIGNED:
-// C++ never defines it, reference_path_trace.comp resets it.
+// itself as the tangent-space normal at ray hits, as every release shipped it
+// (v0.19.0:scene/raytracing_scene_bindings.wgsl:218), while the G-buffer
+// (rasterised by bevy_pbr in Bevy) stays SIGNED (gbuffer_resolve.comp); NONE
+// drops normal maps everywhere (what a renderer that ignores them draws).
+// References always decode SIGNED: C++ never defines it,
+// reference_path_trace.comp resets it.
 GI_CONST uint NORMAL_MAP_DECODE_NONE = 0u;
 GI_CONST uint NORMAL_MAP_DECODE_RAW = 1u;
 GI_CONST uint NORMAL_MAP_DECODE_SIGNED = 2u;

@@ -12,6 +12,14 @@
 // the camera's motion alone.
 #version 460
 #extension GL_GOOGLE_include_directive : require
+// Bevy rasterises its G-buffer with bevy_pbr, which decodes normal maps as
+// glTF says (v0.19.0:bevy_pbr/src/render/pbr_functions.wgsl:200, Nt * 2 - 1); only Solari's
+// ray hits read the texel itself (textures.normal_map_decode raw, #24880).
+// So here raw means signed; none still drops the maps.
+#if defined(NORMAL_MAP_DECODE) && NORMAL_MAP_DECODE == 1
+#undef NORMAL_MAP_DECODE
+#define NORMAL_MAP_DECODE 2
+#endif
 #define SCENE_BINDINGS_NO_INTEGRATOR
 #include "gpu/shaders/scene_bindings.glsl"
 #include "gpu/shaders/gbuffer.h"

@@ -9,13 +9,17 @@ changes what a renderer must compute (issue 19's acceptance scene).
    dielectric/rough);
  - the ceiling panel: an emissive texture (a bright ring on a dim field).
 Everything (buffer, PNGs) is embedded as data: URIs, so the file stands alone.
-Deterministic: `python3 make_textured_room.py > /dev/null` rewrites the same
-bytes. Run from scenarios/assets/."""
+`--mirror` writes textured_mirror_room.gltf: the same room with a mirror on
+the left wall that shows the grooved wall, for the faults that touch only
+surfaces seen through a ray hit (Bevy #24880).
+Deterministic: `python3 make_textured_room.py [--mirror] > /dev/null`
+rewrites the same bytes. Run from scenarios/assets/."""
 import base64
 import json
 import math
 import os
 import struct
+import sys
 import zlib
 
 
@@ -126,7 +130,14 @@ def main():
          "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 3},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 12.0}}},
     ]
-    material_of = {"floor": 0, "back_wall": 1, "left_wall": 2, "right_wall": 2, "ceiling": 2, "front_wall": 2,
+    mirror = "--mirror" in sys.argv[1:]
+    if mirror:
+        # 1 cm off the left wall, facing +x, from z -3.9 to -1.9: seen from the
+        # camera at about 50 degrees, it reflects the back wall's left half.
+        meshes["mirror"] = quad([-W / 2 + 0.01, 0.3, -1.9], [0, 0, -2.0], [0, 2.4, 0], [1, 0, 0], (1, 1))
+        materials.append({"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.95, 0.95, 0.95, 1],
+                          "metallicFactor": 1.0, "roughnessFactor": 0.0}})
+    material_of = {"mirror": 5, "floor": 0, "back_wall": 1, "left_wall": 2, "right_wall": 2, "ceiling": 2, "front_wall": 2,
                    "block": 3, "panel": 4}
     images = [png(64, 64, checker), png(64, 64, grooves), png(64, 64, stripes), png(64, 64, ring)]
 
@@ -180,7 +191,8 @@ def main():
         "buffers": [{"byteLength": len(blob),
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode("ascii")}],
     }
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "textured_room.gltf")
+    name = "textured_mirror_room.gltf" if mirror else "textured_room.gltf"
+    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
     tmp = out + ".tmp"
     with open(tmp, "w") as f:
         json.dump(gltf, f, indent=1)
