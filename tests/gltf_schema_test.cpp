@@ -21,6 +21,7 @@
 #include "core/gltf_import.h"
 #include "core/gltf_schema.h"
 #include "tests/gltf_fixture.h"
+#include "tests/test_support.h"
 
 namespace gi {
 namespace {
@@ -605,6 +606,22 @@ TEST(GltfSchemaImport, CommittedInvalidSamplesAreRejectedAtTheirRecordedPath) {
     } catch (const InputError& e) {
       EXPECT_EQ(e.json_path(), path) << e.what();
     }
+  }
+}
+
+// What a user sees: `giharness run` on a scenario of each sample is exit 2,
+// and the message names the glTF file and the JSON path.
+TEST(GltfSchemaImport, EachInvalidSampleIsExitTwoNamingItsPath) {
+  test::TempDir dir("gltf_invalid_cli");
+  for (const auto& [name, path] : invalid_samples()) {
+    const fs::path gltf = kSourceDir / "tests/data/gltf/invalid" / name;
+    const fs::path scenario = dir.path() / (name + ".json");
+    std::ofstream(scenario) << json{{"name", "invalid"}, {"scene", {{"gltf", gltf.string()}}}, {"resolution", {8, 8}},
+                                    {"frames", 1}, {"mode", "reference"}}
+                                   .dump();
+    const test::CommandResult r = test::run_giharness("run " + scenario.string() + " --out " + (dir.path() / name).string());
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.output;
+    EXPECT_NE(r.output.find(name + ": " + path + ":"), std::string::npos) << r.output;
   }
 }
 

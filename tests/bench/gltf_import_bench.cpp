@@ -1,6 +1,7 @@
 // Importer speed on a scene of real size (issue 19): glTF import (JSON, schema
 // check, accessors, image decoding, MikkTSpace tangents), flattening for the
-// GPU, and the Embree BVH the reference builds, each a Google Benchmark.
+// GPU, the Embree BVH the reference builds and the `bvh` backend's BVH, each
+// a Google Benchmark.
 // Peak memory is the process's maximum resident set after the runs (a
 // counter, "peak_rss_mb"). The file: $GIHARNESS_BENCH_GLTF, else the nightly's
 // 1 M-triangle atrium that .ci/build generates.
@@ -14,6 +15,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/bvh/scene_bvh.h"
 #include "core/gltf_import.h"
 #include "core/reference/embree_geometry.h"
 #include "core/scene_flatten.h"
@@ -75,6 +77,21 @@ void BM_EmbreeBvhBuild(benchmark::State& state) {
   report_scene(state, scene);
 }
 BENCHMARK(BM_EmbreeBvhBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The `bvh` backend's two-level BVH, built on the CPU before upload (binned
+// SAH per mesh, then the TLAS over the instances).
+void BM_ComputeBackendBvhBuild(benchmark::State& state) {
+  const gi::Scene scene = gi::import_gltf(bench_file());
+  const gi::FlatGeometry g = gi::flatten_geometry(scene);
+  const gi::FlatInstances f = gi::flatten_instances(scene, g);
+  for (auto _ : state) {
+    gi::bvh::SceneBvh bvh(g);
+    bvh.update(f.instances, scene.visible_instances());
+    benchmark::DoNotOptimize(bvh.nodes().data());
+  }
+  report_scene(state, scene);
+}
+BENCHMARK(BM_ComputeBackendBvhBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
