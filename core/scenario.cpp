@@ -27,6 +27,7 @@ const char* to_string(EventType type) {
     case EventType::CameraSweep: return "camera_sweep";
     case EventType::Spawn: return "spawn";
     case EventType::Despawn: return "despawn";
+    case EventType::RemoveRaytracingMesh: return "remove_raytracing_mesh";
     case EventType::Transform: return "transform";
     case EventType::Material: return "material";
   }
@@ -54,7 +55,7 @@ const ScenarioKeys& scenario_keys() {
     k.modes = {"reference", "realtime"};
     k.profiles = {"solari-0.17", "solari-0.18", "solari-0.19"};
     k.event_types = {"light_on", "light_off", "light_intensity", "light_color", "camera_keyframes",
-                     "camera_sweep", "spawn", "despawn", "transform", "material"};
+                     "camera_sweep", "spawn", "despawn", "remove_raytracing_mesh", "transform", "material"};
     k.event_keys = {
         {"light_on", {"type", "frame", "light"}},
         {"light_off", {"type", "frame", "light"}},
@@ -64,6 +65,7 @@ const ScenarioKeys& scenario_keys() {
         {"camera_sweep", {"type", "frames", "from", "to", "ease"}},
         {"spawn", {"type", "frame", "instance", "of", "mesh", "translation", "rotation_degrees", "scale", "repeat"}},
         {"despawn", {"type", "frame", "instance"}},
+        {"remove_raytracing_mesh", {"type", "frame", "instance"}},
         {"transform", {"type", "frame", "frames", "instance", "translation", "rotation_degrees", "scale"}},
         {"material",
          {"type", "frame", "frames", "material", "base_color", "metallic", "perceptual_roughness", "reflectance",
@@ -187,7 +189,9 @@ Event parse_event(const Reader& r, const json& j, std::size_t index) {
     case EventType::LightColor: required = {"light", "color"}; break;
     case EventType::CameraKeyframes: required = {"keys"}; break;
     case EventType::CameraSweep: required = {"frames", "from", "to"}; break;
-    case EventType::Spawn: case EventType::Despawn: case EventType::Transform: required = {"instance"}; break;
+    case EventType::Spawn: case EventType::Despawn: case EventType::RemoveRaytracingMesh: case EventType::Transform:
+      required = {"instance"};
+      break;
     case EventType::Material: required = {"material"}; break;
   }
   r.object(j, path, allowed, required);
@@ -292,7 +296,7 @@ Event parse_event(const Reader& r, const json& j, std::size_t index) {
         e.repeat = rep;
       }
       break;
-    case EventType::Despawn: e.instance = name("instance"); break;
+    case EventType::Despawn: case EventType::RemoveRaytracingMesh: e.instance = name("instance"); break;
     case EventType::Material:
       e.material = name("material");
       if (j.contains("base_color")) e.base_color = r.vec3(j["base_color"], path + "/base_color", 0.0, 1.0);

@@ -24,7 +24,7 @@ enum class RenderMode { Reference, Realtime };
 enum class EventType {
   LightOn, LightOff, LightIntensity, LightColor,
   CameraKeyframes, CameraSweep,
-  Spawn, Despawn, Transform, Material,
+  Spawn, Despawn, RemoveRaytracingMesh, Transform, Material,
 };
 const char* to_string(EventType type);  // the JSON spelling ("light_on", …)
 
@@ -91,7 +91,7 @@ struct Event {
   // camera_sweep
   CameraPose from, to;
   bool smooth = false;                // "ease": "smooth" (smoothstep) rather than "linear"
-  // spawn, despawn, transform
+  // spawn, despawn, remove_raytracing_mesh, transform
   std::string instance;
   std::string of;                     // spawn: copy of this instance (else `mesh`)
   std::optional<MeshGeneratorSpec> mesh;

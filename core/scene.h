@@ -66,6 +66,11 @@ struct Instance {
   glm::mat4 transform{1.0f};     // object → world
   glm::vec3 emissive_scale{1.0f};  // light events scale the material's emission
   bool visible = true;           // despawned instances stay in the list, hidden
+  // Hidden by remove_raytracing_mesh (Bevy: RaytracingMesh3d removed, the
+  // entity kept). Solari before v0.19.1 never took such an instance out of
+  // its ray-traced scene (#24764); FrameLoop keeps it there under
+  // scene.raytracing_mesh_removal "ignored".
+  bool raytracing_mesh_removed = false;
 };
 
 struct DirectionalLight {

@@ -180,6 +180,7 @@ void validate_events(const Scenario& s, const Scene& initial) {
         instances.insert(e.instance);
         break;
       case EventType::Despawn:
+      case EventType::RemoveRaytracingMesh:
       case EventType::Transform: need_instance(e, "instance", e.instance); break;
       case EventType::Material:
         if (!materials.count(e.material))

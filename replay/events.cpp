@@ -152,6 +152,12 @@ void apply(State& st, const Scene& initial, const Scenario& s, const Event& e, s
       break;
     }
     case EventType::Despawn: st.instances[instance_of(st, s, e, "instance", e.instance)].visible = false; break;
+    case EventType::RemoveRaytracingMesh: {
+      Instance& inst = st.instances[instance_of(st, s, e, "instance", e.instance)];
+      inst.visible = false;
+      inst.raytracing_mesh_removed = true;
+      break;
+    }
     case EventType::Transform: {
       Instance& inst = st.instances[instance_of(st, s, e, "instance", e.instance)];
       inst.transform = delta_transform(e, t) * inst.transform;

@@ -37,6 +37,10 @@
 //    (or spawn) transform, visible. "mesh": a generated mesh and material are
 //    appended (generate_mesh()), transform = Δ.
 //  - despawn: visible = false (the instance stays in the list).
+//  - remove_raytracing_mesh: visible = false and raytracing_mesh_removed
+//    (Bevy's RaytracingMesh3d removed while the entity lives on). The scene
+//    here is the truth the references see; FrameLoop decides what the
+//    renderer keeps (profile key scene.raytracing_mesh_removal).
 #pragma once
 #include <cstdint>
 

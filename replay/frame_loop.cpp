@@ -35,8 +35,22 @@ void FrameLoop::build_renderer() {
   setup_.renderer_options.timing_calibration = device_.info().device_type == "cpu";
   renderer_ = std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, setup_.renderer_options);
   for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
+  upload_scene();
+}
+
+// The renderer's scene is scene_ except where a profile re-creates a bug in
+// what Bevy extracts: before v0.19.1 (#24764, cd0f5f628d) Solari never took
+// an entity whose RaytracingMesh3d was removed out of its ray-traced scene.
+// scene_ stays the truth the checks and references see.
+void FrameLoop::upload_scene() {
+  std::vector<std::size_t> kept;
+  if (setup_.profile.text("scene.raytracing_mesh_removal") == "ignored")
+    for (std::size_t i = 0; i < scene_.instances.size(); ++i)
+      if (scene_.instances[i].raytracing_mesh_removed && !scene_.instances[i].visible) kept.push_back(i);
+  for (std::size_t i : kept) scene_.instances[i].visible = true;
   flat_ = flatten_instances(scene_, geometry_);
   renderer_->update_scene(flat_, scene_.visible_instances());
+  for (std::size_t i : kept) scene_.instances[i].visible = false;
 }
 
 nlohmann::json FrameLoop::restored_state_hashes(std::uint32_t frame) {
@@ -88,10 +102,7 @@ void FrameLoop::apply_frame_events(std::uint32_t frame) {
     renderer_->update_geometry(geometry_);
     for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
   }
-  if (changes.any()) {
-    flat_ = flatten_instances(scene_, geometry_);
-    renderer_->update_scene(flat_, scene_.visible_instances());
-  }
+  if (changes.any()) upload_scene();
   if (changes.any() && frame > 0) static_start_ = frame;
   const std::uint32_t warmup = setup_.warmup_frames;
   if ((changes.any() && frame > 0) || (warmup > 0 && frame == static_start_ + warmup)) {

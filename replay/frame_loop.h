@@ -53,6 +53,7 @@ class FrameLoop {
 
  private:
   void build_renderer();  // the renderer for geometry_, the checks prepared, scene_'s instances uploaded
+  void upload_scene();    // flat_ from scene_ as the profile's renderer sees it, uploaded
   void resume();
   void apply_frame_events(std::uint32_t frame);
   // One frame's results the record and the checks read, taken right after

@@ -249,6 +249,28 @@ TEST(Events, SpawnAndDespawn) {
   expect_same(scene, initial);
 }
 
+// remove_raytracing_mesh hides the instance in the scene every reference sees
+// and marks why, so the frame loop can keep it in the renderer where the
+// profile re-creates Bevy #24764 (scene.raytracing_mesh_removal "ignored").
+TEST(Events, RemoveRaytracingMeshHidesTheInstanceAndSaysWhy) {
+  gi::Scenario s = scenario_with(json::array({
+      json{{"type", "remove_raytracing_mesh"}, {"frame", 3}, {"instance", "tall_block"}},
+      json{{"type", "despawn"}, {"frame", 3}, {"instance", "short_block"}}}));
+  const gi::Scene initial = initial_scene(s);
+  const std::uint32_t tall = *initial.find_instance("tall_block");
+  const std::uint32_t shortb = *initial.find_instance("short_block");
+  gi::Scene scene = initial;
+  EXPECT_FALSE(gi::apply_events(scene, initial, s, 2).any());
+  EXPECT_TRUE(scene.instances[tall].visible);
+  const gi::ChangeSet c = gi::apply_events(scene, initial, s, 3);
+  EXPECT_TRUE(c.visibility);
+  EXPECT_FALSE(c.geometry);
+  EXPECT_FALSE(scene.instances[tall].visible);
+  EXPECT_TRUE(scene.instances[tall].raytracing_mesh_removed);
+  EXPECT_FALSE(scene.instances[shortb].visible);
+  EXPECT_FALSE(scene.instances[shortb].raytracing_mesh_removed);
+}
+
 TEST(Events, UnknownNamesAreInputErrors) {
   auto error_path = [](json events) -> std::string {
     gi::Scenario s = scenario_with(std::move(events));
@@ -261,6 +283,8 @@ TEST(Events, UnknownNamesAreInputErrors) {
     return "accepted";
   };
   EXPECT_EQ(error_path(json::array({json{{"type", "despawn"}, {"frame", 1}, {"instance", "nope"}}})),
+            "/events/0/instance");
+  EXPECT_EQ(error_path(json::array({json{{"type", "remove_raytracing_mesh"}, {"frame", 1}, {"instance", "nope"}}})),
             "/events/0/instance");
   EXPECT_EQ(error_path(json::array({json{{"type", "material"}, {"frame", 1}, {"material", "nope"}, {"metallic", 1}}})),
             "/events/0/material");

@@ -82,7 +82,7 @@ ClusterIdsCheck::ClusterIdsCheck(ClusterIdsParams params, const Scenario& s, con
       live.push_back(true);
       ++next;
       check(e.first, e.json_path, e.instance, before);
-    } else if (e.type == EventType::Despawn) {
+    } else if (e.type == EventType::Despawn || e.type == EventType::RemoveRaytracingMesh) {
       const auto it = std::find_if(last.instances.begin(), last.instances.begin() + next,
                                    [&](const Instance& x) { return x.name == e.instance; });
       const std::size_t i = static_cast<std::size_t>(it - last.instances.begin());
