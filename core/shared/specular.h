@@ -25,10 +25,19 @@ GI_FN float specular_alpha(float perceptual_roughness, float min_perceptual_roug
   return r * r;
 }
 
+// Sampling's own mirror shortcut. Solari's sample_ggx_vndf tests 0.001 in
+// every release (v0.18.0:scene/sampling.wgsl:22); between #21907 and #22240
+// it tested 0.01 (6458934142^:scene/sampling.wgsl:21-24), so lobes of alpha
+// up to 0.01 rendered as mirrors, with GGX's own weight. The realtime passes
+// define it from specular.vndf_mirror_alpha when that is not 0.001.
+#ifndef SPECULAR_VNDF_MIRROR_ALPHA
+#define SPECULAR_VNDF_MIRROR_ALPHA SPECULAR_MIRROR_ALPHA
+#endif
+
 // v (towards the viewer) and the result in the local frame, z = normal.
 // Returns the reflected direction l.
 GI_FN vec3 sample_ggx_bounded_vndf(vec3 v, float alpha, vec2 u) {
-  if (alpha <= SPECULAR_MIRROR_ALPHA) return vec3(-v.x, -v.y, v.z);
+  if (alpha <= SPECULAR_VNDF_MIRROR_ALPHA) return vec3(-v.x, -v.y, v.z);
   vec3 v_std = normalize(vec3(v.x * alpha, v.y * alpha, v.z));
   float phi = TWO_PI * u.x;
   float a = saturate(alpha);

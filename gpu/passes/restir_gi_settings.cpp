@@ -52,6 +52,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
   if (!temporal_reuse) d.push_back({"GI_NO_TEMPORAL_REUSE", ""});
   // Only when not Solari's 1: the released variants keep their compiled shaders.
   if (initial_samples != 1) d.push_back({"GI_INITIAL_SAMPLES", std::to_string(initial_samples)});
+  if (specular_vndf_mirror_alpha != 0.001f) d.push_back({"SPECULAR_VNDF_MIRROR_ALPHA", f(specular_vndf_mirror_alpha)});
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
   return d;
 }

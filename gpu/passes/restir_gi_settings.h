@@ -124,6 +124,9 @@ struct GiSettings {
   bool specular_cache_every_vertex = false;
   // specular.russian_roulette (Solari 0.19): after each glossy bounce.
   bool specular_russian_roulette = false;
+  // specular.vndf_mirror_alpha: sampling returns the exact reflection at or
+  // below this alpha (0.001; 0.01 re-creates the state #22240 fixed).
+  float specular_vndf_mirror_alpha = 0.001f;
   // specular.di_handover_alpha: at a primary alpha ≤ this the glossy path
   // counts its first hit's emission (weight 1: DI left the lobe to it).
   // Negative: never (DI owns the first hit everywhere).
