@@ -168,6 +168,9 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.specular_cache_every_vertex = p.text("specular.path_end") == "cache_every_vertex";
   s.specular_russian_roulette = p.flag("specular.russian_roulette");
   s.specular_vndf_mirror_alpha = static_cast<float>(p.number("specular.vndf_mirror_alpha"));
+  s.specular_mis_light_pdf_area = p.text("specular.mis_light_pdf") == "area";
+  s.specular_mirror_exact = p.text("brdf.mirror") == "exact";
+  s.specular_mesh_tangent_frame = p.text("brdf.sampling_frame") == "mikktspace";
   if (s.specular) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";

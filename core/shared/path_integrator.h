@@ -28,9 +28,11 @@ GI_FN bool light_sample_visible(vec3 p, vec3 spawn, vec3 l, float dist) {
 }
 
 // Picks one light uniformly, then a triangle, then a point (or a direction in
-// a directional light's cone). pdf is in solid angle at p, selection included.
+// a directional light's cone). pdf is in solid angle at p, selection included;
+// area_pdf the same choice in area measure at the light point (a directional
+// light's is its solid-angle pdf).
 GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist, OUT(vec3) radiance,
-                        OUT(float) pdf) {
+                        OUT(float) pdf, OUT(float) area_pdf) {
   uint count = scene_light_count();
   if (count == 0u) return false;
   uint index = min(uint(rng_next_float(rng) * float(count)), count - 1u);
@@ -42,6 +44,7 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
     dist = RAY_TMAX;
     radiance = vec3(light.radiance);
     pdf = 1.0f / (float(count) * cone_solid_angle(light.direction.w));
+    area_pdf = pdf;
     return true;
   }
   uint tri = min(uint(pick * float(light.triangle_count)), light.triangle_count - 1u);
@@ -55,6 +58,7 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
   if (cos_light <= 0.0f) return false;
   radiance = q.emissive;
   pdf = dist2 / (cos_light * float(count) * float(light.triangle_count) * q.area);
+  area_pdf = 1.0f / (float(count) * float(light.triangle_count) * q.area);
   return true;
 }
 
@@ -62,7 +66,8 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
 // and shading normal ns on the side the ray arrived from, v towards where it
 // came from, spawn the offset origin): one light sample, shadowed, times the
 // BRDF and the cosine at ns, over its pdf, weighted against BRDF sampling by
-// `heuristic`; light from below ng is excluded. Adds throughput times that to
+// `heuristic` (with MIS_LIGHT_PDF_AREA: the light's area-measure pdf in the
+// weight); light from below ng is excluded. Adds throughput times that to
 // `radiance` (inside the test, as one multiply-add: the shader compiler fuses
 // it there, and the GPU images keep their bits).
 GI_FN void add_next_event(BrdfParams brdf, vec3 p, vec3 ng, vec3 ns, vec3 v, vec3 spawn, vec3 throughput,
@@ -71,13 +76,15 @@ GI_FN void add_next_event(BrdfParams brdf, vec3 p, vec3 ng, vec3 ns, vec3 v, vec
   float dist;
   vec3 le;
   float light_pdf;
-  if (sample_light(p, rng, l, dist, le, light_pdf) && dot(l, ng) > 0.0f) {
+  float light_area_pdf;
+  if (sample_light(p, rng, l, dist, le, light_pdf, light_area_pdf) && dot(l, ng) > 0.0f) {
     vec3 f = brdf_eval(brdf, ns, v, l) * max(dot(ns, l), 0.0f);
     if (max3(f) > 0.0f && light_sample_visible(p, spawn, l, dist)) {
       if (heuristic == MIS_NONE) {
         radiance += throughput * f * le / light_pdf;
       } else {
-        float w = mis_weight(heuristic, light_pdf, brdf_pdf(brdf, ns, v, l));
+        float weighed = (heuristic & MIS_LIGHT_PDF_AREA) != 0u ? light_area_pdf : light_pdf;
+        float w = mis_weight(heuristic, weighed, brdf_pdf(brdf, ns, v, l));
         radiance += throughput * f * le * (w / light_pdf);
       }
     }

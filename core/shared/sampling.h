@@ -86,9 +86,15 @@ GI_FN float power_heuristic(float a, float b) { return (a * a) / (a * a + b * b)
 GI_CONST uint MIS_NONE = 0u;     // light sampling alone (no BRDF-sampled twin)
 GI_CONST uint MIS_BALANCE = 1u;  // the reference path tracer's
 GI_CONST uint MIS_POWER = 2u;    // Solari 0.18's glossy path (specular.mis "power")
+// Or-ed onto a heuristic: the light's pdf enters the weight in area measure
+// at the light point while the BRDF's stays in solid angle, as Solari's
+// glossy path weighed them before #24671 (specular.mis_light_pdf "area").
+// Both strategies weigh the same pair, so the weights still sum to one: the
+// mean stays, the noise grows with the light's distance.
+GI_CONST uint MIS_LIGHT_PDF_AREA = 0x100u;
 
 GI_FN float mis_weight(uint heuristic, float a, float b) {
-  return heuristic == MIS_POWER ? power_heuristic(a, b) : balance_heuristic(a, b);
+  return (heuristic & ~MIS_LIGHT_PDF_AREA) == MIS_POWER ? power_heuristic(a, b) : balance_heuristic(a, b);
 }
 
 GI_SHADER_END

@@ -57,6 +57,8 @@ GI_FN void apply_material_textures(INOUT(SurfacePoint) s, GpuInstance inst, uint
     tangent = mat3(inst.object_to_world) * tangent;
     float sign = a0.tangent.w * (determinant(mat3(inst.object_to_world)) < 0.0f ? -1.0f : 1.0f);
     vec3 texel = vec3(sample_texture(slot, uv, false));
+    float tangent_length = length(tangent);
+    if (tangent_length > 0.0f) s.mesh_tangent = vec4(tangent / tangent_length, sign);
 #if NORMAL_MAP_DECODE == 1
     // Solari through v0.19.0: the texel itself, unscaled (#24880 fixed it).
     s.shading_normal = perturb_normal(s.shading_normal, tangent, sign, texel, 1.0f);
@@ -96,6 +98,7 @@ GI_FN SurfacePoint surface_at(uint instance_index, uint primitive, vec2 bary) {
   s.emissive = vec3(m.emissive_perceptual_roughness) * vec3(inst.emissive_scale);
   s.base_color_metallic = m.base_color_metallic;
   s.perceptual_roughness = m.emissive_perceptual_roughness.w;
+  s.mesh_tangent = vec4(0.0f);
   if (m.reflectance.z != 0.0f) apply_material_textures(s, inst, base, bary, b0);
   return s;
 }

@@ -90,6 +90,10 @@ struct SurfacePoint {
   // The material at this point: its factors times its textures there.
   vec4 base_color_metallic;  // rgb base colour, a metallic
   float perceptual_roughness;
+  // The mesh's tangent where a normal map bent shading_normal: world space,
+  // normalised, not made perpendicular to shading_normal; w the bitangent's
+  // sign. w = 0: none (Solari 0.18 built its glossy-path frame from it, #23948).
+  vec4 mesh_tangent;
 };
 
 GI_CONST float RAY_TMAX = 1e20f;

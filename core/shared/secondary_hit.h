@@ -18,6 +18,12 @@
 //   HIT_GLOSSY_BOUNCES    vertices a glossy path visits (specular.max_bounces)
 //   HIT_POWER_MIS         specular.mis: 1 "power" (Solari 0.18's glossy path),
 //                         0 "balance" heuristic between NEE and the bounce
+//   HIT_MESH_TANGENT_FRAME brdf.sampling_frame: 1 "mikktspace" (Solari 0.18:
+//                         a hit with a mesh tangent bounces in the skewed
+//                         frame, sample_specular_in_mesh_frame), 0 "orthonormal"
+//   HIT_MIS_LIGHT_PDF_AREA specular.mis_light_pdf: 1 "area" (every release:
+//                         the light's pdf weighed in area measure against
+//                         the bounce's in solid angle), 0 "solid_angle" (#24671)
 //   HIT_RUSSIAN_ROULETTE  specular.russian_roulette: 1 ends a glossy path
 //                         after a bounce with probability 1 − luminance of
 //                         its throughput (Solari 0.19), 0 never
@@ -50,8 +56,16 @@ float hit_cache_cell_size(vec3 position, uint rng);
 #ifndef HIT_RUSSIAN_ROULETTE
 #define HIT_RUSSIAN_ROULETTE 0
 #endif
+#ifndef HIT_MIS_LIGHT_PDF_AREA
+#define HIT_MIS_LIGHT_PDF_AREA 0
+#endif
+#ifndef HIT_MESH_TANGENT_FRAME
+#define HIT_MESH_TANGENT_FRAME 0
+#endif
 
-GI_FN uint hit_mis_heuristic() { return HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE; }
+GI_FN uint hit_mis_heuristic() {
+  return (HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE) | (HIT_MIS_LIGHT_PDF_AREA != 0 ? MIS_LIGHT_PDF_AREA : 0u);
+}
 
 // A path ends here: the hit's diffuse lobe times the irradiance arriving there
 // (radiance = irradiance · diffuse / π, as Solari's world cache). With
@@ -91,7 +105,8 @@ GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray
   float dist;
   vec3 le;
   float pdf;
-  if (!sample_light(s.position, rng, l, dist, le, pdf) || dot(l, ng) <= 0.0f) return vec3(0.0f);
+  float area_pdf;
+  if (!sample_light(s.position, rng, l, dist, le, pdf, area_pdf) || dot(l, ng) <= 0.0f) return vec3(0.0f);
   if (!light_sample_visible(s.position, spawn, l, dist)) return vec3(0.0f);
   return albedo * INV_PI * le * max(dot(ns, l), 0.0f) / pdf;
 #else
@@ -156,10 +171,11 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     bool front = dot(dir, s.geometric_normal) < 0.0f;
     if (vertex == 0u && front) radiance += path_end.first_emission * s.emissive;
     if (vertex > 0u && front && max3(s.emissive) > 0.0f) {
-      float w = previous_pdf > 0.0f
-                    ? mis_weight(hit_mis_heuristic(), previous_pdf,
-                                 emissive_hit_light_pdf(s, hit.instance, dir, hit.t))
-                    : 1.0f;
+      float light_pdf = emissive_hit_light_pdf(s, hit.instance, dir, hit.t);
+#if HIT_MIS_LIGHT_PDF_AREA != 0
+      light_pdf *= -dot(dir, s.geometric_normal) / (hit.t * hit.t);  // solid angle → area at the light
+#endif
+      float w = previous_pdf > 0.0f ? mis_weight(hit_mis_heuristic(), previous_pdf, light_pdf) : 1.0f;
       radiance += throughput * s.emissive * w;
     }
     vec3 hng = front ? s.geometric_normal : -s.geometric_normal;
@@ -190,8 +206,19 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
     vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
     vec3 l;
     float pdf;
-    if (!brdf_sample(brdf, hns, v, u, l, pdf) || dot(l, hng) <= 0.0f) break;
-    throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0f) / pdf);
+#if HIT_MESH_TANGENT_FRAME != 0
+    if (s.mesh_tangent.w != 0.0f) {
+      // Solari 0.18: GGX alone in the mesh's frame, the BRDF at the unnormalised sample.
+      if (!sample_specular_in_mesh_frame(brdf, hns, s.mesh_tangent, v, vec2(u.x, u.y), l, pdf)) break;
+      throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0f) / pdf);
+      l = normalize(l);
+      if (dot(l, hng) <= 0.0f) break;
+    } else
+#endif
+    {
+      if (!brdf_sample(brdf, hns, v, u, l, pdf) || dot(l, hng) <= 0.0f) break;
+      throughput *= brdf_eval(brdf, hns, v, l) * (max(dot(hns, l), 0.0f) / pdf);
+    }
     previous_pdf = mirror ? 0.0f : pdf;
 #if HIT_RADIANCE == 2
     spread_pdf = mirror ? 1e30f : pdf;

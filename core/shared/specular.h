@@ -30,6 +30,9 @@ GI_FN float specular_alpha(float perceptual_roughness, float min_perceptual_roug
 // it tested 0.01 (6458934142^:scene/sampling.wgsl:21-24), so lobes of alpha
 // up to 0.01 rendered as mirrors, with GGX's own weight. The realtime passes
 // define it from specular.vndf_mirror_alpha when that is not 0.001.
+#ifndef SPECULAR_MIRROR_EXACT
+#define SPECULAR_MIRROR_EXACT 0
+#endif
 #ifndef SPECULAR_VNDF_MIRROR_ALPHA
 #define SPECULAR_VNDF_MIRROR_ALPHA SPECULAR_MIRROR_ALPHA
 #endif
@@ -80,11 +83,46 @@ GI_FN float ggx_bounded_vndf_pdf(vec3 v, vec3 l, float alpha) {
 // NaN at alpha 0 — the bug the `finite` check exists for. The lobe is the
 // material model's (specular_lobe) at p.alpha, which the caller may have
 // set from its own clamp.
+//
+// SPECULAR_MIRROR_EXACT (brdf.mirror "exact", Solari 0.19 after #22468,
+// v0.19.0:scene/brdf.wgsl:100-106 with the mirror pdf of
+// scene/sampling.wgsl:55-60): at or below SPECULAR_MIRROR_ALPHA the sampled
+// reflection carries the Fresnel term alone. Otherwise ("clamped_ggx", 0.18)
+// the alpha-0.001 lobe's D at a world-space half vector is divided by the
+// pdf's D at the local one: equal on a mirror that lies along the axes, off
+// by float rounding on a tilted one, where reflections darken in patches.
 GI_FN vec3 specular_sample_weight(BrdfParams p, vec3 n, vec3 v, vec3 l) {
+#if SPECULAR_MIRROR_EXACT
+  if (p.alpha <= SPECULAR_MIRROR_ALPHA) {
+    float NoV = saturate(dot(n, v));
+    if (p.model == BRDF_LOBES)
+      return mix(F_Schlick_f90_one(p.f0_dielectric, NoV), F_Schlick_f90_one(p.f0_metal, NoV), p.metallic);
+    return brdf_fresnel(p, NoV);
+  }
+#endif
   vec3 vl = from_world(v, n);
   vec3 ll = from_world(l, n);
   float pdf = ggx_bounded_vndf_pdf(vl, ll, p.alpha);
   return specular_lobe(p, n, v, l) * max(dot(n, l), 0.0f) / pdf;
+}
+
+// Solari 0.18's bounce at a glossy path's hit (v0.18.0:realtime/specular_gi.wgsl:96,
+// 128-136; fixed by #23948): the frame is bevy_pbr's calculate_tbn_mikktspace,
+// (T, w·cross(N, T), N) from the mesh tangent and the mapped normal with no
+// Gram-Schmidt, so where a normal map tilts N towards T it is skewed. v is
+// projected on it, GGX's bounded VNDF sampled there and its pdf taken there,
+// and the sample mapped back unnormalised (the caller evaluates the BRDF at
+// that vector, as Bevy does, and normalises it to trace). No Jacobian of the
+// skew: the estimate is biased, and a mirror's reflection misses its lobe.
+GI_FN bool sample_specular_in_mesh_frame(BrdfParams p, vec3 n, vec4 tangent, vec3 v, vec2 u, OUT(vec3) l,
+                                         OUT(float) pdf) {
+  vec3 t = vec3(tangent);
+  vec3 b = tangent.w * cross(n, t);
+  vec3 vt = vec3(dot(v, t), dot(v, b), dot(v, n));
+  vec3 lt = sample_ggx_bounded_vndf(vt, p.alpha, u);
+  l = lt.x * t + lt.y * b + lt.z * n;
+  pdf = ggx_bounded_vndf_pdf(vt, lt, p.alpha);
+  return pdf > 0.0f && dot(l, l) > 0.0f;
 }
 
 GI_SHADER_END

@@ -46,12 +46,15 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_PATH_LONG_RAY", specular_path_long_ray ? "1" : "0"},
           {"SPECULAR_CACHE_EVERY_VERTEX", specular_cache_every_vertex ? "1" : "0"},
           {"SPECULAR_RUSSIAN_ROULETTE", specular_russian_roulette ? "1" : "0"},
+          {"SPECULAR_MIS_LIGHT_PDF_AREA", specular_mis_light_pdf_area ? "1" : "0"},
+          {"SPECULAR_MESH_TANGENT_FRAME", specular_mesh_tangent_frame ? "1" : "0"},
           {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};
   if (!temporal_reuse) d.push_back({"GI_NO_TEMPORAL_REUSE", ""});
   // Only when not Solari's 1: the released variants keep their compiled shaders.
   if (initial_samples != 1) d.push_back({"GI_INITIAL_SAMPLES", std::to_string(initial_samples)});
+  if (specular_mirror_exact) d.push_back({"SPECULAR_MIRROR_EXACT", "1"});
   if (specular_vndf_mirror_alpha != 0.001f) d.push_back({"SPECULAR_VNDF_MIRROR_ALPHA", f(specular_vndf_mirror_alpha)});
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
   return d;

@@ -127,6 +127,17 @@ struct GiSettings {
   // specular.vndf_mirror_alpha: sampling returns the exact reflection at or
   // below this alpha (0.001; 0.01 re-creates the state #22240 fixed).
   float specular_vndf_mirror_alpha = 0.001f;
+  // specular.mis_light_pdf "area": the glossy path's MIS weighs the light's
+  // area-measure pdf against the bounce's solid-angle one (every release;
+  // #24671 put both in solid angle, "solid_angle").
+  bool specular_mis_light_pdf_area = false;
+  // brdf.mirror "exact" (0.19, #22468): a mirror's sampled reflection weighs
+  // the Fresnel term alone; "clamped_ggx" (0.18) the alpha-0.001 GGX lobe
+  // over its pdf.
+  bool specular_mirror_exact = false;
+  // brdf.sampling_frame "mikktspace" (0.18): a glossy path's bounce at a hit
+  // with a mesh tangent samples in the skewed mesh frame (#23948 fixed it).
+  bool specular_mesh_tangent_frame = false;
   // specular.di_handover_alpha: at a primary alpha ≤ this the glossy path
   // counts its first hit's emission (weight 1: DI left the lobe to it).
   // Negative: never (DI owns the first hit everywhere).

@@ -11,8 +11,11 @@ changes what a renderer must compute (issue 19's acceptance scene).
 Everything (buffer, PNGs) is embedded as data: URIs, so the file stands alone.
 `--mirror` writes textured_mirror_room.gltf: the same room with a mirror on
 the left wall that shows the grooved wall, for the faults that touch only
-surfaces seen through a ray hit (Bevy #24880).
-Deterministic: `python3 make_textured_room.py [--mirror] > /dev/null`
+surfaces seen through a ray hit (Bevy #24880). `--ridged-metal` writes
+textured_ridged_mirror_room.gltf: the mirror room with the back wall a
+glossy metal whose normal map leans towards the tangent (Bevy #23948's
+skewed frame).
+Deterministic: `python3 make_textured_room.py [--mirror | --ridged-metal] > /dev/null`
 rewrites the same bytes. Run from scenarios/assets/."""
 import base64
 import json
@@ -52,6 +55,15 @@ def grooves(x, y):
     elif phase < 0.5:
         tilt = -0.9
     n = (0.0, tilt, 1.0)
+    length = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+    return tuple(int(round((c / length * 0.5 + 0.5) * 255)) for c in n) + (255,)
+
+
+def ridges(x, y):
+    # A ridge every 16 texels along u: the normal leans 30° towards +u, then
+    # -u, i.e. towards the tangent (grooves() leans it towards the bitangent).
+    tilt = 0.577 if (x % 16) < 8 else -0.577
+    n = (tilt, 0.0, 1.0)
     length = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
     return tuple(int(round((c / length * 0.5 + 0.5) * 255)) for c in n) + (255,)
 
@@ -130,7 +142,8 @@ def main():
          "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 3},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 12.0}}},
     ]
-    mirror = "--mirror" in sys.argv[1:]
+    ridged = "--ridged-metal" in sys.argv[1:]
+    mirror = ridged or "--mirror" in sys.argv[1:]
     if mirror:
         # 1 cm off the left wall, facing +x, from z -3.9 to -1.9: seen from the
         # camera at about 50 degrees, it reflects the back wall's left half.
@@ -140,6 +153,16 @@ def main():
     material_of = {"mirror": 5, "floor": 0, "back_wall": 1, "left_wall": 2, "right_wall": 2, "ceiling": 2, "front_wall": 2,
                    "block": 3, "panel": 4}
     images = [png(64, 64, checker), png(64, 64, grooves), png(64, 64, stripes), png(64, 64, ring)]
+    textures = [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}, {"source": 2, "sampler": 0},
+                {"source": 3, "sampler": 1}]
+    if ridged:
+        # The back wall a mirror-smooth metal whose ridges lean the
+        # normal towards the tangent: the wall the mirror shows.
+        materials.append({"name": "ridged_metal", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1],
+                          "metallicFactor": 1.0, "roughnessFactor": 0.0}, "normalTexture": {"index": 4}})
+        material_of["back_wall"] = len(materials) - 1
+        images.append(png(64, 64, ridges))
+        textures.append({"source": 4, "sampler": 0})
 
     blob = bytearray()
     views, accessors, gltf_meshes, nodes = [], [], [], []
@@ -183,15 +206,14 @@ def main():
         "materials": materials,
         "cameras": [{"type": "perspective", "perspective": {"yfov": 1.1, "znear": 0.01, "aspectRatio": 1.777}}],
         "samplers": [{"wrapS": 10497, "wrapT": 10497}, {"wrapS": 33071, "wrapT": 33071}],
-        "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}, {"source": 2, "sampler": 0},
-                     {"source": 3, "sampler": 1}],
+        "textures": textures,
         "images": [{"uri": "data:image/png;base64," + base64.b64encode(p).decode("ascii")} for p in images],
         "accessors": accessors,
         "bufferViews": views,
         "buffers": [{"byteLength": len(blob),
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode("ascii")}],
     }
-    name = "textured_mirror_room.gltf" if mirror else "textured_room.gltf"
+    name = "textured_ridged_mirror_room.gltf" if ridged else "textured_mirror_room.gltf" if mirror else "textured_room.gltf"
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
     tmp = out + ".tmp"
     with open(tmp, "w") as f:
