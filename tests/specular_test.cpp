@@ -1,6 +1,7 @@
 // CPU tests of core/shared/specular.h, the code specular_gi.comp runs:
-// bounded-VNDF sampling agrees with its pdf, the mirror special case, and the
-// NaN that zero roughness gives without the profile's clamp.
+// bounded-VNDF sampling agrees with its pdf, the mirror special case, the
+// NaN that zero roughness gives without the profile's clamp, and Solari
+// 0.18's bounce in the mesh-tangent frame (#23948).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -105,6 +106,49 @@ TEST(SpecularWeight, BoundedVndfEstimatorAgreesWithUniformSampling) {
       EXPECT_NEAR(vndf, uniform, 5 * se + 2e-3) << model << " " << alpha << " " << theta;
       if (model == BRDF_SINGLE_SCATTER) EXPECT_LE(vndf, 1.005) << alpha << " " << theta;
     }
+}
+
+// Solari 0.18's bounce in the mesh frame (brdf.sampling_frame mikktspace):
+// with a tangent perpendicular to the normal the frame is orthonormal and the
+// estimator is the unbiased one; where a normal map has leaned the normal
+// towards the tangent (T·N = 0.5) the skewed frame biases it (#23948).
+TEST(SpecularWeight, MeshFrameIsUnbiasedOnlyWhenTheTangentIsPerpendicular) {
+  const vec3 n(0, 0, 1), f0(1.0f);
+  const float alpha = 0.09f;
+  const BrdfParams p = lobe(f0, alpha, BRDF_SINGLE_SCATTER);
+  for (float theta : {0.3f, 0.9f}) {
+    const vec3 v = view_at(theta);
+    auto estimate = [&](vec4 tangent, double& se) {
+      std::uint32_t rng = 7u;
+      double sum = 0, sum2 = 0;
+      const int count = 200000;
+      for (int i = 0; i < count; ++i) {
+        vec3 l;
+        float pdf;
+        double x = 0;
+        if (sample_specular_in_mesh_frame(p, n, tangent, v, rng_next_vec2(rng), l, pdf))
+          x = brdf_eval(p, n, v, l).x * std::max(dot(n, l), 0.0f) / pdf;
+        sum += x;
+        sum2 += x * x;
+      }
+      const double mean = sum / count;
+      se = std::sqrt((sum2 / count - mean * mean) / count);
+      return mean;
+    };
+    double se_a = 0, se_b = 0, se_c = 0;
+    const double reference = estimate(vec4(0.0f, 1.0f, 0.0f, 1.0f), se_a);  // orthonormal, rotated
+    const double rotated = estimate(vec4(normalize(vec3(1.0f, 1.0f, 0.0f)), -1.0f), se_b);
+    EXPECT_NEAR(rotated, reference, 5 * (se_a + se_b) + 2e-3) << theta;
+    const double skewed = estimate(vec4(normalize(vec3(std::sqrt(3.0f), 0.0f, 1.0f)), 1.0f), se_c);  // T·N = 0.5
+    EXPECT_GT(std::abs(skewed - reference), std::max(0.05 * reference, 10 * (se_a + se_c))) << theta;
+  }
+}
+
+// Solari's glossy-path MIS before #24671 (specular.mis_light_pdf area) only
+// swaps which pdf the light side brings; the flag must not change the heuristic.
+TEST(MisWeight, LightPdfInAreaFlagKeepsTheHeuristic) {
+  EXPECT_FLOAT_EQ(mis_weight(MIS_POWER | MIS_LIGHT_PDF_AREA, 2.0f, 3.0f), power_heuristic(2.0f, 3.0f));
+  EXPECT_FLOAT_EQ(mis_weight(MIS_BALANCE | MIS_LIGHT_PDF_AREA, 2.0f, 3.0f), balance_heuristic(2.0f, 3.0f));
 }
 
 }  // namespace
