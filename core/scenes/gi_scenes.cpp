@@ -123,4 +123,35 @@ Scene make_gi_hard_cases() {
   return s;
 }
 
+Scene make_gi_indirect_shadow() {
+  Scene s;
+  s.name = "gi_indirect_shadow";
+  Mesh floor{"floor"};
+  add_quad(floor, {-3.0f, 0.0f, -1.0f}, {3.0f, 0.0f, -1.0f}, {3.0f, 0.0f, 4.0f}, {-3.0f, 0.0f, 4.0f}, {0, 1, 0});
+  add_object(s, std::move(floor), lambert_material("floor", glm::vec3(0.7f)));
+  // The bright wall the floor beyond z 0.6 is lit by.
+  Mesh wall{"wall"};
+  add_quad(wall, {-2.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {2.0f, 2.5f, 0.0f}, {-2.0f, 2.5f, 0.0f}, {0, 1, 1});
+  add_object(s, std::move(wall), lambert_material("wall", glm::vec3(0.9f)));
+  // A wall washer: it faces the wall (-z) from z 0.6, so nothing at z > 0.6
+  // sees its emitting face; its back is black.
+  Mesh light{"light"};
+  add_quad(light, {-1.2f, 1.4f, 0.6f}, {1.2f, 1.4f, 0.6f}, {1.2f, 2.2f, 0.6f}, {-1.2f, 2.2f, 0.6f}, {0, 1.8f, 0});
+  add_object(s, std::move(light), emitter_material("light", glm::vec3(12.0f, 11.0f, 10.0f)));
+  // The occluder: a black screen 1 m tall at z 0.8, which scenarios park out
+  // of sight and move in; behind it the floor sees none of the wall.
+  add_object(s, box_mesh("screen", {-1.0f, 0.0f, 0.8f}, {1.0f, 1.0f, 0.82f}, false, true),
+             lambert_material("screen", glm::vec3(0.0f)));
+  // A black shell closes the scene: it reflects nothing, as an open sky
+  // would, but a GI ray that leaves finds a surface. Solari gives a miss no
+  // confidence (restir_gi.empty_samples), which in an open scene brightens
+  // the floor by about the inverse of the fraction of rays that hit.
+  add_object(s, box_mesh("shell", {-3.5f, -0.05f, -0.5f}, {3.5f, 3.5f, 4.5f}, true),
+             lambert_material("shell", glm::vec3(0.0f)));
+  s.camera.position = {0.0f, 1.5f, 3.6f};
+  s.camera.target = {0.0f, 0.2f, 1.0f};
+  s.camera.vertical_fov_degrees = 55.0f;
+  return s;
+}
+
 }  // namespace gi

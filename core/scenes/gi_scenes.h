@@ -12,6 +12,11 @@
 //                   1e-4 and 1e6 side by side with one of 1, a degenerate
 //                   (zero-area) triangle and sliver triangles (aspect 1e4),
 //                   and a zero-roughness mirror — everything `finite` must survive.
+//   gi_indirect_shadow: a floor lit only by a bright wall (a wall washer
+//                   lights the wall and faces away from the floor), and a
+//                   black 1 m screen, "screen", that a scenario moves in
+//                   between: an indirect shadow, for shadow_lag on ReSTIR
+//                   GI's visibility (Bevy #22287).
 #pragma once
 #include "core/scene.h"
 
@@ -20,5 +25,6 @@ namespace gi {
 Scene make_gi_corners();
 Scene make_gi_mirror();
 Scene make_gi_hard_cases();
+Scene make_gi_indirect_shadow();
 
 }  // namespace gi

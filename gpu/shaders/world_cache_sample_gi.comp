@@ -1,8 +1,9 @@
 // World cache update, indirect light (DESIGN §3 step 5; Solari's
 // sample_irradiance, 2nd ray): per active cell a cosine-distributed ray of at
-// most WORLD_CACHE_GI_TMAX; at a hit, the hit's diffuse colour times the
+// most WORLD_CACHE_GI_TMAX; at a hit, the hit's albedo times the
 // cache there (a cache-to-cache query: life by the profile's rule, root frame
-// passed on). Irradiance estimate: π · (ρ/π) · E_hit = ρ · E_hit. Emission at
+// passed on). Irradiance estimate: π · (ρ/π) · E_hit = ρ · E_hit, ρ the
+// brdf.secondary_albedo (Bevy's: full base colour). Emission at
 // the hit is left out: the direct sample owns the lights.
 // WORLD_CACHE_SECONDARY_HITS_FULL (brdf.secondary_hits "full"): π times the
 // hit's secondary_hit_radiance instead (hit_radiance.glsl: a glossy hit is
@@ -52,10 +53,16 @@ void main() {
     vec3 ns = dot(s.shading_normal, hit_normal) < 0.0 ? -s.shading_normal : s.shading_normal;
     irradiance = PI * secondary_hit_radiance(hit, s, hit_normal, ns, dir, q, rng);
 #else
-    // Solari's formula as it was (ρ · E, not π · ρ/π · E through
-    // end_path_radiance), so the diffuse cache keeps its bits and baselines.
-    vec3 diffuse = s.base_color_metallic.rgb * (1.0 - s.base_color_metallic.a);
-    irradiance = diffuse * world_cache_query(hit_position, hit_normal, hit.t, false, life, state.y, cell, 0u, rng);
+    // Solari's formula (ρ · E, not π · ρ/π · E through end_path_radiance).
+    // ρ is brdf.secondary_albedo: the full base colour, metallic ignored, as
+    // Bevy's world_cache_update.wgsl does; "diffuse" keeps the harness's
+    // earlier base·(1−metallic), under which a metal wall adds nothing.
+#if HIT_ALBEDO_BASE != 0
+    vec3 albedo = s.base_color_metallic.rgb;
+#else
+    vec3 albedo = s.base_color_metallic.rgb * (1.0 - s.base_color_metallic.a);
+#endif
+    irradiance = albedo * world_cache_query(hit_position, hit_normal, hit.t, false, life, state.y, cell, 0u, rng);
 #endif
   }
   wc_new_radiance[i] += vec4(irradiance, 0.0);
