@@ -65,7 +65,12 @@ std::uint32_t brdf_model_from_profile(const Profile& p) {
   return shader::BRDF_SINGLE_SCATTER;
 }
 
-void apply_material_model(Scene& scene, const Profile& p) { scene.brdf_model = brdf_model_from_profile(p); }
+// The model with #24668's NaN flags above it (brdf.h): every material carries them.
+void apply_material_model(Scene& scene, const Profile& p) {
+  scene.brdf_model = brdf_model_from_profile(p);
+  if (p.text("brdf.fresnel_argument") == "raw") scene.brdf_model |= shader::BRDF_FRESNEL_RAW;
+  if (p.text("brdf.evaluate_clamp") == "max_zero") scene.brdf_model |= shader::BRDF_EVALUATE_CLAMP;
+}
 
 gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   gpu::WorldCacheSettings s;

@@ -154,4 +154,28 @@ Scene make_gi_indirect_shadow() {
   return s;
 }
 
+Scene make_gi_headon_panel() {
+  Scene s;
+  s.name = "gi_headon_panel";
+  add_room(s, {-1.0f, 0.0f, -1.0f}, {1.0f, 2.0f, 1.0f}, 0.3f, glm::vec3(10.0f));
+  // A glossy metal panel (α 0.0025, above Bevy's 0.001 mirror threshold, so
+  // the full lobe is evaluated), its normal off every axis: an axis-aligned
+  // one rounds its dots to exactly 1 and never above.
+  const glm::vec3 c(0.0f, 1.0f, -0.3f);
+  const glm::vec3 n = glm::normalize(glm::vec3(1.0f, 1.0f, 1.0f));
+  const glm::vec3 t = glm::normalize(glm::cross(n, glm::vec3(0.0f, 1.0f, 0.0f)));
+  const glm::vec3 b = glm::cross(n, t);
+  Mesh panel{"panel"};
+  add_quad(panel, c - 0.3f * t - 0.3f * b, c + 0.3f * t - 0.3f * b, c + 0.3f * t + 0.3f * b, c - 0.3f * t + 0.3f * b,
+           c + n);
+  add_object(s, std::move(panel), metal_material("panel", glm::vec3(0.9f), 0.05f));
+  // Head-on through a narrow lens: each pixel spans 4e-4 rad, so the
+  // reflected ray leaves within about 1e-3 rad of the view ray, where L·H
+  // can round above 1.
+  s.camera.position = c + 0.6f * n;
+  s.camera.target = c;
+  s.camera.vertical_fov_degrees = 1.5f;
+  return s;
+}
+
 }  // namespace gi

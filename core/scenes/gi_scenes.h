@@ -17,6 +17,10 @@
 //                   black 1 m screen, "screen", that a scenario moves in
 //                   between: an indirect shadow, for shadow_lag on ReSTIR
 //                   GI's visibility (Bevy #22287).
+//   gi_headon_panel: a glossy metal panel tilted off every axis in a lit room,
+//                   seen head-on through a 1.5° lens: reflected rays leave
+//                   nearly along the view ray, where Fresnel's L·H rounds
+//                   above 1 (Bevy #24668's NaN).
 #pragma once
 #include "core/scene.h"
 
@@ -26,5 +30,6 @@ Scene make_gi_corners();
 Scene make_gi_mirror();
 Scene make_gi_hard_cases();
 Scene make_gi_indirect_shadow();
+Scene make_gi_headon_panel();
 
 }  // namespace gi

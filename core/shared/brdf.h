@@ -18,6 +18,13 @@
 //   BRDF_LOBES               #24246 (4805ca792c:scene/brdf.wesl:24-34, 145-150): the metal and
 //                            the dielectric lobe evaluated apart and mixed by metallic, the
 //                            diffuse lobe from the dielectric's ρ_spec (Bevy main, 2026-08-22)
+// Two flags ride above the model in the same word (#24668, NaN guards):
+//   BRDF_FRESNEL_RAW    brdf.fresnel_argument "raw": Fresnel's cosine as computed, as
+//                       0.19's fresnel(f0, LdotH) takes it (v0.19.0 scene/brdf.wgsl:114-116);
+//                       a dot of unit vectors that rounds above 1 then gives
+//                       pow(negative, 5): NaN on the GPU (std::pow in C++ stays finite)
+//   BRDF_EVALUATE_CLAMP brdf.evaluate_clamp "max_zero": f = max(f, 0) (#24668,
+//                       bde4e9d7c8:scene/brdf.wgsl:96), which on GPUs also turns NaN into 0
 #ifndef GI_SHARED_BRDF_H
 #define GI_SHARED_BRDF_H
 #include "host_device.h"
@@ -32,6 +39,9 @@ GI_CONST uint BRDF_LAYERED = 2u;
 GI_CONST uint BRDF_LAYERED_POLYNOMIAL = 3u;
 GI_CONST uint BRDF_LOBES_BLENDED_F0 = 4u;
 GI_CONST uint BRDF_LOBES = 5u;
+GI_CONST uint BRDF_MODEL_MASK = 15u;
+GI_CONST uint BRDF_FRESNEL_RAW = 16u;
+GI_CONST uint BRDF_EVALUATE_CLAMP = 32u;
 
 // Every model from 0.19's on: Fresnel with f90 = 1, Filament's 1/(F_ab.x + F_ab.y).
 GI_FN bool brdf_model_is_layered(uint model) { return model >= BRDF_LAYERED; }
@@ -48,7 +58,8 @@ struct BrdfParams {
   float metallic;
   float alpha;                 // perceptual_roughness², after the clamp
   float perceptual_roughness;  // after the clamp: F_ab's second coordinate
-  uint model;                  // one of the BRDF_* above
+  uint model;                  // one of the BRDF_* models above
+  uint flags;                  // BRDF_FRESNEL_RAW, BRDF_EVALUATE_CLAMP
 };
 
 // The clamp stays under every model. Bevy 0.19 drops it and treats α ≤ 0.001
@@ -66,7 +77,8 @@ GI_FN BrdfParams brdf_params(vec3 base_color, float metallic, float perceptual_r
   float r = max(perceptual_roughness, MIN_PERCEPTUAL_ROUGHNESS);
   p.alpha = r * r;
   p.perceptual_roughness = r;
-  p.model = model;
+  p.model = model & BRDF_MODEL_MASK;
+  p.flags = model & ~BRDF_MODEL_MASK;
   return p;
 }
 
@@ -93,16 +105,20 @@ GI_FN float smith_G1(float alpha, float NoV) {
 // reflectance below ~2% fades the grazing reflection out, so reflectance 0
 // is a pure Lambert surface (the Cornell box) instead of one that still
 // reflects up to 100% at grazing angles.
+// VoH comes saturated, or raw under BRDF_FRESNEL_RAW (fresnel_cos).
 GI_FN vec3 F_Schlick(vec3 f0, float VoH) {
   float f90 = saturate(dot(f0, vec3(50.0f * 0.33f)));
-  float f = pow(1.0f - saturate(VoH), 5.0f);
+  float f = pow(1.0f - VoH, 5.0f);
   return f0 + (vec3(f90) - f0) * f;
 }
 
 // Bevy 0.19's own Schlick (scene/brdf.wgsl:114-116): f90 = 1 for every f0.
 GI_FN vec3 F_Schlick_f90_one(vec3 f0, float VoH) {
-  return f0 + (vec3(1.0f) - f0) * pow(1.0f - saturate(VoH), 5.0f);
+  return f0 + (vec3(1.0f) - f0) * pow(1.0f - VoH, 5.0f);
 }
+
+// Fresnel's cosine: saturated, or as computed (BRDF_FRESNEL_RAW, Bevy 0.19).
+GI_FN float fresnel_cos(BrdfParams p, float c) { return (p.flags & BRDF_FRESNEL_RAW) != 0u ? c : saturate(c); }
 
 GI_FN vec3 brdf_fresnel(BrdfParams p, float VoH) {
   return brdf_model_is_layered(p.model) ? F_Schlick_f90_one(p.f0, VoH) : F_Schlick(p.f0, VoH);
@@ -163,7 +179,7 @@ GI_FN vec3 specular_lobe(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   float NoV = max(dot(n, v), BRDF_MIN_COS);
   vec3 h = normalize(v + l);
   float NoH = saturate(dot(n, h));
-  float VoH = saturate(dot(v, h));
+  float VoH = fresnel_cos(p, dot(v, h));
   float dv = D_GGX(p.alpha, NoH) * V_SmithGGXCorrelated(p.alpha, NoV, NoL);
   if (p.model == BRDF_LOBES) {
     // #24246: each lobe with its own Fresnel and multiscatter factor.
@@ -187,7 +203,8 @@ GI_FN vec3 brdf_eval_diffuse(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   if (p.model == BRDF_LOBES_BLENDED_F0) return p.diffuse_color * INV_PI * (vec3(1.0f) - specular_reflectance(p, p.f0, NoV));
   if (p.model == BRDF_LOBES)
     return p.diffuse_color * INV_PI * (vec3(1.0f) - specular_reflectance(p, p.f0_dielectric, NoV));
-  vec3 layering = (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoL)) * (vec3(1.0f) - F_Schlick_f90_one(p.f0, NoV));
+  vec3 layering = (vec3(1.0f) - F_Schlick_f90_one(p.f0, fresnel_cos(p, NoL))) *
+                   (vec3(1.0f) - F_Schlick_f90_one(p.f0, fresnel_cos(p, NoV)));
   return p.diffuse_color * INV_PI * layering;
 }
 
@@ -198,13 +215,16 @@ GI_FN bool brdf_has_specular(BrdfParams p) { return brdf_model_is_layered(p.mode
 // f(v, l) (without the cosine), n the shading normal facing v.
 GI_FN vec3 brdf_eval(BrdfParams p, vec3 n, vec3 v, vec3 l) {
   if (dot(n, l) <= 0.0f) return vec3(0.0f);
-  return brdf_eval_diffuse(p, n, v, l) + specular_lobe(p, n, v, l);
+  vec3 f = brdf_eval_diffuse(p, n, v, l) + specular_lobe(p, n, v, l);
+  // GLSL's max returns the number when one side is NaN on every GPU we run
+  // (lavapipe's fmax, NVIDIA's); glm's keeps the NaN, but C++ makes none here.
+  return (p.flags & BRDF_EVALUATE_CLAMP) != 0u ? max(f, vec3(0.0f)) : f;
 }
 
 // Probability of sampling the specular lobe; depends on v only, so sampling
 // and pdf evaluation agree. Clamped so neither lobe is starved.
 GI_FN float specular_lobe_probability(BrdfParams p, float NoV) {
-  float s = luminance(brdf_fresnel(p, NoV));
+  float s = luminance(brdf_fresnel(p, saturate(NoV)));  // the harness's own: always saturated
   float d = luminance(p.diffuse_color);
   if (d <= 0.0f) return 1.0f;
   if (s <= 0.0f) return 0.0f;

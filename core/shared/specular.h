@@ -94,7 +94,7 @@ GI_FN float ggx_bounded_vndf_pdf(vec3 v, vec3 l, float alpha) {
 GI_FN vec3 specular_sample_weight(BrdfParams p, vec3 n, vec3 v, vec3 l) {
 #if SPECULAR_MIRROR_EXACT
   if (p.alpha <= SPECULAR_MIRROR_ALPHA) {
-    float NoV = saturate(dot(n, v));
+    float NoV = fresnel_cos(p, dot(n, v));
     if (p.model == BRDF_LOBES)
       return mix(F_Schlick_f90_one(p.f0_dielectric, NoV), F_Schlick_f90_one(p.f0_metal, NoV), p.metallic);
     return brdf_fresnel(p, NoV);
