@@ -12,6 +12,8 @@
 #include "core/scene_flatten.h"
 #include "core/scenes/cornell_box.h"
 #include "core/shared/brdf.h"
+#include "core/profile.h"
+#include "replay/realtime_settings.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -128,6 +130,42 @@ TEST(BrdfModels, MaterialsCarryTheModelIntoTheReference) {
   const gi::FlatInstances flat = gi::flatten_instances(scene, gi::flatten_geometry(scene));
   for (const GpuMaterial& m : flat.materials) EXPECT_EQ(uint(m.reflectance.y), BRDF_LAYERED);
   EXPECT_NE(gi::reference_cache_key(scene, o), single);
+}
+
+// #24668's flags ride above the model: brdf_params keeps them apart, the
+// model compares as before, and only the raw argument lets Fresnel see a
+// cosine above 1 (on the GPU, pow of the negative base is NaN; std::pow of
+// a negative base to the integral power 5 stays finite, so C++ shows the
+// sign, not the NaN).
+TEST(BrdfModels, FresnelArgumentAndClampFlagsRideAboveTheModel) {
+  const BrdfParams plain = brdf_params(vec3(0.9f), 1.0f, 0.05f, 0.5f, BRDF_LOBES);
+  const BrdfParams raw = brdf_params(vec3(0.9f), 1.0f, 0.05f, 0.5f, BRDF_LOBES | BRDF_FRESNEL_RAW);
+  const BrdfParams clamped =
+      brdf_params(vec3(0.9f), 1.0f, 0.05f, 0.5f, BRDF_LOBES | BRDF_FRESNEL_RAW | BRDF_EVALUATE_CLAMP);
+  EXPECT_EQ(raw.model, BRDF_LOBES);
+  EXPECT_EQ(raw.flags, BRDF_FRESNEL_RAW);
+  EXPECT_EQ(clamped.flags, BRDF_FRESNEL_RAW | BRDF_EVALUATE_CLAMP);
+  EXPECT_EQ(plain.flags, 0u);
+  const float above = 1.0f + 1e-6f;
+  EXPECT_EQ(fresnel_cos(plain, above), 1.0f);
+  EXPECT_EQ(fresnel_cos(raw, above), above);
+  EXPECT_LT(1.0f - fresnel_cos(raw, above), 0.0f);  // the base pow() gets on the GPU
+  // Away from the rounding the flags change nothing.
+  const vec3 n(0, 0, 1), v = glm::normalize(vec3(0.3f, 0.1f, 1.0f)), l = glm::normalize(vec3(-0.28f, -0.1f, 1.0f));
+  const vec3 f = brdf_eval(plain, n, v, l);
+  EXPECT_EQ(brdf_eval(raw, n, v, l), f);
+  EXPECT_EQ(brdf_eval(clamped, n, v, l), f);
+}
+
+// The profile puts the flags on every material (as the GPU passes and the
+// Embree reference read them): 0.19 feeds Fresnel the raw cosine, main clamps.
+TEST(BrdfModels, ProfilesSetTheNanFlags) {
+  for (const auto& [profile, fresnel_raw] : {std::pair{"solari-0.17", false}, {"solari-0.18", false}, {"solari-0.19", true}}) {
+    gi::Scene scene = gi::make_cornell_box();
+    gi::apply_material_model(scene, gi::load_profile(profile));
+    EXPECT_EQ((scene.brdf_model & BRDF_FRESNEL_RAW) != 0u, fresnel_raw) << profile;
+    EXPECT_EQ(scene.brdf_model & BRDF_EVALUATE_CLAMP, 0u) << profile;  // no release clamps
+  }
 }
 
 }  // namespace
