@@ -178,4 +178,40 @@ Scene make_gi_headon_panel() {
   return s;
 }
 
+Scene make_gi_mirror_shadow_stripe() {
+  Scene s;
+  s.name = "gi_mirror_shadow_stripe";
+  Mesh floor{"floor"};
+  add_quad(floor, {-2.0f, 0.0f, -2.5f}, {2.0f, 0.0f, -2.5f}, {2.0f, 0.0f, 3.0f}, {-2.0f, 0.0f, 3.0f}, {0, 1, 0});
+  add_object(s, std::move(floor), lambert_material("floor", glm::vec3(0.7f)));
+  // A mirror leaning forward, so that the camera, which sees nothing else,
+  // sees the floor in it; a black board behind it.
+  Mesh mirror{"mirror"};
+  add_quad(mirror, {-1.2f, 0.0f, -1.2f}, {1.2f, 0.0f, -1.2f}, {1.2f, 0.8f, -1.05f}, {-1.2f, 0.8f, -1.05f},
+           {0.0f, 0.4f, 0.0f});
+  add_object(s, std::move(mirror), metal_material("mirror", glm::vec3(0.95f), 0.0f));
+  Mesh board{"board"};
+  add_quad(board, {-1.2f, 0.0f, -1.21f}, {1.2f, 0.0f, -1.21f}, {1.2f, 0.8f, -1.06f}, {-1.2f, 0.8f, -1.06f},
+           {0.0f, 0.4f, -3.0f});
+  add_object(s, std::move(board), lambert_material("board", glm::vec3(0.0f)));
+  // A small light behind the mirror's plane and above its top: it lights the
+  // floor in front, and no ray from it reaches the mirror's face (no caustic
+  // that the path tracer would find only by chance).
+  Mesh light{"light"};
+  add_quad(light, {-0.05f, 2.8f, -2.25f}, {0.05f, 2.8f, -2.25f}, {0.05f, 2.8f, -2.15f}, {-0.05f, 2.8f, -2.15f},
+           {0.0f, 0.0f, -2.2f});
+  add_object(s, std::move(light), emitter_material("light", glm::vec3(3000.0f)));
+  // A bar 30 cm deep, half a metre above the floor: a shadow stripe about
+  // 37 cm wide around z = -0.3, inside the mirror's view; the cache's cells
+  // there (0.18's 0.25 m, grown with distance) span its edges.
+  add_object(s, box_mesh("bar", {-1.5f, 0.45f, -0.79f}, {1.5f, 0.55f, -0.49f}), lambert_material("bar", glm::vec3(0.5f)));
+  // The black shell: no GI ray leaves (see gi_indirect_shadow).
+  add_object(s, box_mesh("shell", {-3.0f, -0.05f, -3.0f}, {3.0f, 3.2f, 3.5f}, true),
+             lambert_material("shell", glm::vec3(0.0f)));
+  s.camera.position = {0.0f, 1.0f, 2.4f};
+  s.camera.target = {0.0f, 0.4f, -1.125f};
+  s.camera.vertical_fov_degrees = 11.0f;
+  return s;
+}
+
 }  // namespace gi

@@ -21,6 +21,10 @@
 //                   seen head-on through a 1.5° lens: reflected rays leave
 //                   nearly along the view ray, where Fresnel's L·H rounds
 //                   above 1 (Bevy #24668's NaN).
+//   gi_mirror_shadow_stripe: a mirror fills the view and shows the floor, on
+//                   which a 30 cm bar under a small light throws a 37 cm
+//                   shadow stripe: a reflection whose detail is finer than a
+//                   world-cache cell (Bevy #22311).
 #pragma once
 #include "core/scene.h"
 
@@ -31,5 +35,6 @@ Scene make_gi_mirror();
 Scene make_gi_hard_cases();
 Scene make_gi_indirect_shadow();
 Scene make_gi_headon_panel();
+Scene make_gi_mirror_shadow_stripe();
 
 }  // namespace gi
