@@ -108,33 +108,34 @@ TEST(GiWorldCache, CornellBoxEnergyWithinFivePercentAndCacheCellsActive) {
   EXPECT_TRUE(r.summary["timings"]["passes"].contains("world_cache_commit")) << r.summary["timings"].dump();
 }
 
-// Solari's world cache shades every secondary hit as diffuse (brdf.secondary_hits
-// "diffuse"): light reaching the mirror scene's floor and walls by way of the
-// mirror is lost and the full image fails dark against Embree. With "full"
-// (glossy hits followed along their BRDF before the path ends in the cache)
-// the same scene, same frames and window, is within 5 %. The window starts
-// after warmup_frames, so the cache's warm-up is not what is judged.
-// Within 6 %, the scenario's tolerance, since 0.18's material model
-// (brdf.model multiscatter_approx) widened the gap (scenarios/gi_mirror.json).
-TEST(GiWorldCache, MirrorSceneDarkWithDiffuseSecondaryHitsWithinSixPercentWithFull) {
+// Solari's world cache shades every secondary hit as diffuse with its full
+// base colour (brdf.secondary_hits "diffuse"): light reaching the mirror
+// scene's floor and walls by way of the mirror is scattered instead of
+// reflected. "full" follows glossy hits along their BRDF before the path ends
+// in the cache. Both within 6 % of Embree (the scenario's tolerance, widened
+// by 0.18's material model), and within 2 % of each other: until the cache's
+// own bounce took the base colour of metals (2026-12-04) the diffuse state
+// was 0.906 against full's 0.948; now 0.942. The window starts after
+// warmup_frames, so the cache's warm-up is not what is judged.
+TEST(GiWorldCache, MirrorSceneDiffuseSecondaryHitsWithinTwoPercentOfFull) {
   const GiRun full = run_scenario_file("gi_mirror.json", "", "mirror_full");
   const nlohmann::json ok = check(full, "reference");
   ASSERT_TRUE(ok.contains("figures")) << full.output;
   const nlohmann::json last = ok["figures"]["frames"].back();
   EXPECT_EQ(ok["verdict"], "pass") << last.dump(1);
-  EXPECT_NEAR(last["temporal_mean"]["energy_ratio"].get<double>(), 1.0, 0.06) << last.dump(1);
+  const double full_energy = last["temporal_mean"]["energy_ratio"].get<double>();
+  EXPECT_NEAR(full_energy, 1.0, 0.06) << last.dump(1);
   EXPECT_EQ(last["window_start"].get<int>(), 64) << "warmup_frames must start the window at frame 64";
   EXPECT_EQ(last["window_frames"].get<int>(), 64);
   EXPECT_EQ(full.exit_code, 0) << full.output;
 
-  const GiRun diffuse =
-      run_scenario_file("expected_failures/gi_mirror_diffuse_secondary_hits.json", "", "mirror_diffuse");
-  const nlohmann::json bad = check(diffuse, "reference");
-  ASSERT_TRUE(bad.contains("figures")) << diffuse.output;
-  EXPECT_EQ(diffuse.exit_code, 1) << diffuse.output;
-  EXPECT_EQ(bad["verdict"], "fail") << bad.dump(1);
-  const double dark = bad["figures"]["frames"].back()["temporal_mean"]["energy_ratio"].get<double>();
-  EXPECT_LT(dark, 0.93) << "the light by way of the mirror must be missing";
+  const GiRun diffuse = run_scenario_file("gi_mirror.json", "--set brdf.secondary_hits=diffuse", "mirror_diffuse");
+  const nlohmann::json bevy = check(diffuse, "reference");
+  ASSERT_TRUE(bevy.contains("figures")) << diffuse.output;
+  EXPECT_EQ(bevy["verdict"], "pass") << bevy.dump(1);
+  const double diffuse_energy = bevy["figures"]["frames"].back()["temporal_mean"]["energy_ratio"].get<double>();
+  EXPECT_NEAR(diffuse_energy, full_energy, 0.02) << "the cache's bounce must weigh a metal by its base colour";
+  EXPECT_LT(diffuse_energy, full_energy + 0.005) << "diffuse secondary hits add no light that full misses";
 }
 
 }  // namespace
