@@ -48,12 +48,13 @@ const ScenarioKeys& scenario_keys() {
   static const ScenarioKeys keys = [] {
     ScenarioKeys k;
     k.top_level = {"$schema", "name", "description", "scene", "resolution", "frames", "seed", "profile",
-                   "overrides", "mode", "gi", "noise", "cache_view", "background", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds", "bug"};
+                   "overrides", "mode", "gi", "noise", "cache_view", "background", "samples_per_frame", "camera", "events", "checks", "capture", "timeout_seconds", "bug", "pipeline"};
     k.required_top_level = {"name", "scene", "resolution", "frames"};
-    k.scene_keys = {"generator", "params", "gltf"};
+    k.scene_keys = {"generator", "params", "gltf", "shapes"};
+    k.pipelines = {"solari", "radiance_cascades"};
     k.camera_keys = {"position", "target", "up", "fov_y_degrees"};
     k.modes = {"reference", "realtime"};
-    k.profiles = {"solari-0.17", "solari-0.18", "solari-0.19"};
+    k.profiles = {"solari-0.17", "solari-0.18", "solari-0.19", "radiance-cascades-lesson"};
     k.event_types = {"light_on", "light_off", "light_intensity", "light_color", "camera_keyframes",
                      "camera_sweep", "spawn", "despawn", "remove_raytracing_mesh", "transform", "material"};
     k.event_keys = {
@@ -342,10 +343,20 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   if (!valid_name(s.name)) r.fail("/name", fmt::format("expected a name matching {}, got \"{}\"", kNamePattern, s.name));
   if (doc.contains("description")) s.description = r.string(doc["description"], "/description", false);
 
+  if (doc.contains("pipeline") && r.one_of(doc["pipeline"], "/pipeline", K.pipelines) == "radiance_cascades") {
+    s.pipeline = Pipeline::RadianceCascades;
+    s.profile = "radiance-cascades-lesson";
+  }
+  const bool rc = s.pipeline == Pipeline::RadianceCascades;
+
   // scene
-  {
+  if (rc) {
+    const json& sc = doc["scene"];
+    r.object(sc, "/scene", {"shapes"}, {"shapes"});
+  } else {
     const json& sc = doc["scene"];
     r.object(sc, "/scene", K.scene_keys);
+    if (sc.contains("shapes")) r.fail("/scene/shapes", "unexpected \"shapes\" (a canvas of shapes is the scene of \"pipeline\": \"radiance_cascades\")");
     if (sc.contains("generator") == sc.contains("gltf"))
       r.fail("/scene", "expected exactly one of \"generator\" (with optional \"params\") or \"gltf\"");
     if (sc.contains("generator")) {
@@ -377,7 +388,18 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   }
   s.frames = r.uint(doc["frames"], "/frames", 1, kMaxFrames);
   if (doc.contains("seed")) s.seed = r.uint(doc["seed"], "/seed", 0, 0xffffffffu);
-  if (doc.contains("profile")) s.profile = r.one_of(doc["profile"], "/profile", K.profiles);
+  if (doc.contains("profile")) {
+    s.profile = r.one_of(doc["profile"], "/profile", K.profiles);
+    if (rc != (s.profile == "radiance-cascades-lesson"))
+      r.fail("/profile", rc ? "expected radiance-cascades-lesson (the profile of the radiance_cascades pipeline)"
+                            : "expected a Solari profile (radiance-cascades-lesson needs \"pipeline\": \"radiance_cascades\")");
+  }
+  if (rc) {
+    for (const char* key : {"mode", "gi", "noise", "cache_view", "background", "samples_per_frame", "camera"})
+      if (doc.contains(key))
+        r.fail(std::string("/") + key, "unexpected key for the radiance_cascades pipeline (it belongs to Solari's)");
+    s.canvas = parse_canvas(r, doc["scene"]["shapes"], "/scene/shapes", s.resolution[0], s.resolution[1]);
+  }
   if (doc.contains("overrides")) {
     if (!doc["overrides"].is_object()) r.fail("/overrides", "expected an object of profile keys, " + got(doc["overrides"]));
     s.overrides = doc["overrides"];
@@ -452,6 +474,12 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
     }
     s.bug = std::move(bug);
   }
+  // The radiance-cascades pipeline has checks of its own (rc_*), and only those.
+  for (const CheckSpec& c : s.checks)
+    if (rc != (c.name.rfind("rc_", 0) == 0))
+      r.fail(c.json_path + "/name", rc ? fmt::format("expected an rc_* check for the radiance_cascades pipeline, got \"{}\"", c.name)
+                                       : fmt::format("expected a check of Solari's pipeline (\"{}\" judges \"pipeline\": \"radiance_cascades\")", c.name));
+  if (rc) validate_canvas_events(r, s, *s.canvas);
   // Each check's own parameter rules, once the whole scenario is known.
   for (const CheckSpec& c : s.checks)
     if (const CheckDeclaration* d = find_declared_check(c.name); d && d->validate) d->validate(c, s);

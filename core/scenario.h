@@ -17,9 +17,16 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/rc/canvas.h"
+
 namespace gi {
 
 enum class RenderMode { Reference, Realtime };
+
+// Which pipeline a scenario drives: Solari's (3D scenes, the default) or the
+// seed lesson's 2D radiance cascades (issue 18: a canvas of shapes, its own
+// passes, profile, CPU reference and rc_* checks).
+enum class Pipeline { Solari, RadianceCascades };
 
 enum class EventType {
   LightOn, LightOff, LightIntensity, LightColor,
@@ -129,7 +136,10 @@ struct Scenario {
   std::array<std::uint32_t, 2> resolution{0, 0};  // width, height
   std::uint32_t frames = 0;
   std::uint32_t seed = 1;
-  std::string profile = "solari-0.18";
+  std::string profile = "solari-0.18";  // radiance_cascades: "radiance-cascades-lesson"
+  Pipeline pipeline = Pipeline::Solari;
+  // The radiance-cascades pipeline's scene ("scene": {"shapes": [...]}).
+  std::optional<Canvas> canvas;
   nlohmann::json overrides = nlohmann::json::object();  // validated later against the profile
   RenderMode mode = RenderMode::Realtime;
   // Realtime: add ReSTIR GI and specular GI to DI (the output and the reference
@@ -178,7 +188,8 @@ std::vector<std::size_t> event_order(const Scenario& scenario);
 struct ScenarioKeys {
   std::vector<std::string> top_level;           // every allowed top-level key
   std::vector<std::string> required_top_level;
-  std::vector<std::string> scene_keys;          // "generator", "params", "gltf"
+  std::vector<std::string> scene_keys;          // "generator", "params", "gltf", "shapes"
+  std::vector<std::string> pipelines;           // "solari", "radiance_cascades"
   std::vector<std::string> camera_keys;
   std::vector<std::string> modes;
   std::vector<std::string> profiles;

@@ -12,6 +12,7 @@
 #include "gpu/device.h"
 #include "replay/failure_capture.h"
 #include "replay/frame_loop.h"
+#include "replay/rc_run.h"
 #include "replay/resource_limits.h"
 #include "replay/run_setup.h"
 #include "replay/run_summary.h"
@@ -19,6 +20,8 @@
 namespace gi {
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
+  // The seed lesson's 2D radiance cascades: a pipeline of its own (issue 18).
+  if (scenario.pipeline == Pipeline::RadianceCascades) return run_rc_scenario(scenario, options);
   const auto started = std::chrono::steady_clock::now();
   RunSetup setup(scenario, options);
   // A check that decides without drawing (cluster_ids "count_only") runs the scenario alone.

@@ -16,7 +16,6 @@
 #include "replay/signal_figures.h"
 
 namespace gi {
-namespace {
 
 // Beside the passes: each frame's GPU pass sum (all passes; the pipeline's
 // alone) and its host wall time, and the ratio of their medians (issue 16's
@@ -59,6 +58,8 @@ void add_frames(FrameLog& log, const std::vector<double>& frame_wall_ms, nlohman
   log.finish();
   s["frames_log"] = {{"file", "frames.jsonl"}, {"records", log.count()}, {"kept_every", log.stride()}};
 }
+
+namespace {
 
 // DI, GI and specular each: per-frame noise (the chains), bias against the
 // Embree reference of the same quantity (replay/signal_figures.h) over the

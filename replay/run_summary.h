@@ -20,6 +20,11 @@ struct RunFacts {
   std::chrono::steady_clock::time_point started;
 };
 
+// summary.json's "timings" (per pass, and per frame: the GPU pass sum and the
+// host's wall time), "frames" (the log's kept records) and "frames_log";
+// finishes the log. The radiance-cascades run (replay/rc_run.h) shares it.
+void add_frames(FrameLog& log, const std::vector<double>& frame_wall_ms, nlohmann::json& s);
+
 // Fills result.summary from the run and result.checks, and writes it.
 void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captures, RunResult& result);
 

@@ -29,7 +29,10 @@
 
 namespace gi {
 
+struct Canvas;
 struct Profile;
+struct RcReference;
+struct RcSettings;
 struct Scene;
 struct FlatGeometry;
 struct RunOptions;
@@ -78,6 +81,9 @@ enum class FrameInput {
   chains,              // realtime chains A and B: this frame and the window's temporal mean
   reference_halves,    // the reference mode's two half-sample means
   nonfinite_samples,   // the reference mode's non-finite samples since the window began
+  // The radiance-cascades pipeline (replay/rc_run.h):
+  rc_canvas,           // the canvas at the frame and the pipeline's settings
+  rc_reference,        // the 2D path tracer's image of the frame's canvas (CPU: judged frames only)
 };
 
 struct CheckNeeds {
@@ -113,6 +119,10 @@ struct FrameData {
   double gi_luminance = 0.0;
   const gpu::WorldCacheFrameStats* cache_stats = nullptr;  // null without the world cache
   std::optional<double> cache_view_luminance;              // with the debug view
+  // The radiance-cascades pipeline's frame (null for Solari's).
+  const Canvas* rc_canvas = nullptr;
+  const RcSettings* rc_settings = nullptr;
+  std::function<const RcReference&()> rc_reference;  // computed on first call, shared by the checks
 };
 
 // A check's window on one frame: the declared inputs, nothing else.
@@ -146,6 +156,10 @@ class FrameView {
   bool full_gi() const;                       // the chains' images include GI and specular
   Image reference_half(int which) const;
   std::uint64_t nonfinite_samples() const;
+  // Radiance cascades: the canvas at this frame, the settings, the reference.
+  const Canvas& rc_canvas() const;
+  const RcSettings& rc_settings() const;
+  const RcReference& rc_reference() const;
 
  private:
   void require(FrameInput input, const char* what) const;

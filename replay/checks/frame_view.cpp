@@ -95,4 +95,19 @@ std::uint64_t FrameView::nonfinite_samples() const {
   return data_.nonfinite_samples;
 }
 
+const Canvas& FrameView::rc_canvas() const {
+  require(FrameInput::rc_canvas, "the canvas");
+  return *data_.rc_canvas;
+}
+
+const RcSettings& FrameView::rc_settings() const {
+  require(FrameInput::rc_canvas, "the cascades' settings");
+  return *data_.rc_settings;
+}
+
+const RcReference& FrameView::rc_reference() const {
+  require(FrameInput::rc_reference, "the 2D reference");
+  return data_.rc_reference();
+}
+
 }  // namespace gi

@@ -1,0 +1,64 @@
+#include "core/rc/rc_settings.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/profile.h"
+
+namespace gi {
+
+std::uint32_t rc_cascades_for_diagonal(float diagonal, float interval0, std::uint32_t max_cascades) {
+  const double a = std::max(double(interval0), 1.0);
+  const double n = std::ceil(std::log(1.0 + 3.0 * double(diagonal) / a) / std::log(4.0));
+  return std::clamp(std::uint32_t(std::max(n, 1.0)), 1u, std::max(max_cascades, 1u));
+}
+
+std::vector<float> RcSettings::interval_boundaries() const {
+  std::vector<float> out;
+  for (std::uint32_t c = 1; c < cascades; ++c) out.push_back(probe(c).start);
+  return out;
+}
+
+nlohmann::json RcSettings::to_json() const {
+  nlohmann::json probes = nlohmann::json::array();
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    const shader::RcProbe p = probe(c);
+    probes.push_back({{"cascade", c}, {"width", p.width}, {"rays", p.width * p.width}, {"start", p.start},
+                      {"range", p.range}});
+  }
+  return {{"canvas", {width, height}},
+          {"distance_field", jfa ? "jfa" : "analytic"},
+          {"resolution_factor", resolution_factor},
+          {"interval0", interval0},
+          {"cascades_for_diagonal", cascades_for_diagonal},
+          {"cascades", cascades},
+          {"probes", probes},
+          {"mipmap", {mip_width(), mip_height()}},
+          {"mipmap_divisor", mipmap_mode == shader::RC_MIPMAP_RAY_COUNT ? "ray_count" : "probe_width_x2"}};
+}
+
+RcSettings rc_settings(const Profile& profile, std::uint32_t width, std::uint32_t height) {
+  RcSettings s;
+  s.width = width;
+  s.height = height;
+  s.jfa = profile.text("rc.distance_field") == "jfa";
+  s.resolution_factor = std::uint32_t(std::clamp<long long>(profile.integer("rc.resolution_factor"), 0, 8));
+  s.interval0 = float(profile.number("rc.interval0"));
+  const auto max_cascades = std::uint32_t(std::clamp<long long>(profile.integer("rc.max_cascades"), 1, shader::RC_MAX_CASCADES));
+  const long long fixed = profile.integer("rc.cascade_count");
+  s.cascades_for_diagonal =
+      fixed > 0 ? std::min(std::uint32_t(fixed), max_cascades)
+                : rc_cascades_for_diagonal(std::sqrt(float(width) * float(width) + float(height) * float(height)),
+                                           s.interval0, max_cascades);
+  s.cascades = s.cascades_for_diagonal;
+  // The widest probe must tile the canvas (the lesson's code tightens the count so).
+  while (s.cascades > 1 && (width % s.probe(s.cascades - 1).width != 0 || height % s.probe(s.cascades - 1).width != 0))
+    --s.cascades;
+  s.max_steps = std::uint32_t(std::clamp<long long>(profile.integer("rc.max_raymarch_steps"), 1, 4096));
+  s.hit_epsilon = float(profile.number("rc.hit_epsilon"));
+  s.mipmap_mode = profile.text("rc.mipmap_divisor") == "ray_count" ? shader::RC_MIPMAP_RAY_COUNT
+                                                                     : shader::RC_MIPMAP_PROBE_WIDTH_X2;
+  return s;
+}
+
+}  // namespace gi

@@ -1,0 +1,42 @@
+#include "gpu/rc/rc_passes.h"
+
+#include <algorithm>
+
+namespace gi::gpu {
+
+using namespace gi::shader;
+
+namespace {
+
+RcPass make(Device& device, ShaderCompiler& compiler, const RcBuffers& b, int from) {
+  RcPass p(device, compiler, JfaStep::kShader, {BINDING_RC_SEEDS_IN, BINDING_RC_SEEDS_OUT, BINDING_RC_DISTANCE});
+  p.bind(BINDING_RC_SEEDS_IN, b.seeds[from]);
+  p.bind(BINDING_RC_SEEDS_OUT, b.seeds[1 - from]);
+  p.bind(BINDING_RC_DISTANCE, b.distance);
+  return p;
+}
+
+}  // namespace
+
+JfaStep::JfaStep(Device& device, ShaderCompiler& compiler, const RcBuffers& b)
+    : passes_{make(device, compiler, b, 0), make(device, compiler, b, 1)} {}
+
+std::vector<std::uint32_t> JfaStep::jumps(std::uint32_t width, std::uint32_t height) {
+  std::uint32_t k = 1;
+  while (k * 2 < std::max(width, height)) k *= 2;
+  std::vector<std::uint32_t> out;
+  for (; k >= 1; k /= 2) out.push_back(k);
+  return out;
+}
+
+void JfaStep::record(VkCommandBuffer cmd, const RcPush& base) const {
+  const std::vector<std::uint32_t> ks = jumps(base.width, base.height);
+  for (std::size_t i = 0; i < ks.size(); ++i) {
+    RcPush push = base;
+    push.jfa_step = ks[i];
+    push.jfa_last = i + 1 == ks.size() ? 1u : 0u;
+    passes_[i % 2].dispatch(cmd, push.width, push.height, push);
+  }
+}
+
+}  // namespace gi::gpu
