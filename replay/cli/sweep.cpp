@@ -31,6 +31,7 @@
 #include "replay/cli/commands.h"
 #include "replay/events.h"
 #include "replay/cli/sweep_plan.h"
+#include "replay/cli/rc_sweep.h"
 #include "replay/equal_time.h"
 #include "replay/signal_figures.h"
 #include "gpu/device.h"
@@ -136,6 +137,7 @@ int run_sweep(const SweepOptions& o) {
       throw InputError("--vary", p.label(), std::string("a valid scenario: ") + e.what());
     }
   }
+  if (base.pipeline == Pipeline::RadianceCascades) return run_rc_sweep(o, base, points, scenarios);
   const std::uint32_t reference_spp = o.reference_spp.value_or(scenario_reference_spp(base, 1024));
 
   nlohmann::json sweep = {{"schema_version", 1},

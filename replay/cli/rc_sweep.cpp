@@ -1,0 +1,131 @@
+// The radiance-cascades sweep: every point runs the scenario (its frames; the
+// canvas at the last one is judged), and gives
+//   - ms/frame: the median over frames of the RC passes' GPU time summed;
+//   - its error against a converged 2D path tracer (core/rc/rc_reference.h,
+//     --reference-spp rays per pixel, default 16384) over the pixels outside
+//     every shape: relative L1, Σ|Y − Y_ref| / ΣY_ref, and relMSE,
+//     Σ(Y − Y_ref)² / ΣY_ref², and the energy ratio;
+//   - the 2D path tracer at equal time: the rays per pixel its measured cost
+//     on this machine fits in the point's ms/frame (the tracer runs on the
+//     CPU cores lavapipe's GPU runs on), on a seed the converged one did not
+//     use, and its error against the same reference.
+// Writes <out>/sweep.json, <out>/report.html with the table and the plot.
+#include "replay/cli/rc_sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "core/atomic_file.h"
+#include "core/exr_io.h"
+#include "core/rc/rc_reference.h"
+#include "reports/change.h"
+#include "reports/gnuplot.h"
+#include "reports/html_page.h"
+#include "reports/summary.h"
+#include "replay/run_scenario.h"
+
+namespace gi {
+namespace {
+
+double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+struct Errors {
+  double relative_l1 = 0, relmse = 0, energy = 0;
+  nlohmann::json to_json() const { return {{"relative_l1", relative_l1}, {"relmse", relmse}, {"energy_ratio", energy}}; }
+};
+
+Errors errors(const Image& image, const RcReference& ref) {
+  double l1 = 0, sq = 0, sum = 0, sum2 = 0, out = 0;
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    if (!ref.free[i]) continue;
+    const double o = lum(image.pixels[i]), r = lum(ref.mean.pixels[i]);
+    l1 += std::abs(o - r), sq += (o - r) * (o - r), sum += r, sum2 += r * r, out += o;
+  }
+  return {sum > 0 ? l1 / sum : 0.0, sum2 > 0 ? sq / sum2 : 0.0, sum > 0 ? out / sum : 0.0};
+}
+
+std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "&ndash;"; }
+
+}  // namespace
+
+int run_rc_sweep(const SweepOptions& o, const Scenario& base, const std::vector<SweepPoint>& points,
+                 const std::vector<Scenario>& scenarios) {
+  const std::uint32_t reference_rays = o.reference_spp.value_or(16384);
+  nlohmann::json sweep = {
+      {"schema_version", 1},
+      {"scenario", base.file.string()},
+      {"pipeline", "radiance_cascades"},
+      {"vary", o.vary},
+      {"build", build_info()},
+      {"method",
+       fmt::format("Radiance cascades: ms/frame = median over the run's frames of the RC passes' GPU timestamps "
+                   "summed; error of the last frame against the 2D path tracer at {} rays per pixel over the pixels "
+                   "outside every shape: relative L1 = sum |Y - Y_ref| / sum Y_ref, relMSE = sum (Y - Y_ref)^2 / sum "
+                   "Y_ref^2. 2D path tracer at equal time: the rays per pixel that its measured cost on this "
+                   "machine's CPU cores fits in the point's ms/frame, on a seed the reference did not use.",
+                   reference_rays)},
+      {"rows", nlohmann::json::array()}};
+  PlotSeries rc_series{"radiance cascades", {}, {}, false}, pt_series{"2D path tracer at equal time", {}, {}, false};
+  std::vector<std::vector<std::string>> table;
+  std::map<std::uint64_t, RcReference> converged;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SweepPoint& p = points[i];
+    const Scenario& s = scenarios[i];
+    RunOptions ro;
+    ro.out_dir = o.out_dir / p.slug();
+    ro.device = o.device;
+    ro.quiet = true;
+    const RunResult run = run_scenario(s, ro);
+    const Image image = read_exr(ro.out_dir / kFinalImageFile).at("");
+    const double ms = run.summary["timings"]["frame"]["pipeline_pass_sum_median_ms"].get<double>();
+    const Canvas canvas = canvas_at_frame(*s.canvas, s, s.frames - 1);
+    auto [it, fresh] = converged.try_emplace(canvas.hash());
+    if (fresh) it->second = rc_reference(canvas, {.rays = reference_rays, .seed = 0x5EEDu});
+    const RcReference& ref = it->second;
+    const Errors e = errors(image, ref);
+    // The path tracer's cost: a short run gives its time per ray.
+    const RcReference probe = rc_reference(canvas, {.rays = 16, .seed = 7});
+    const double ms_per_ray = probe.seconds * 1000.0 / 16.0;
+    const auto rays = std::uint32_t(std::clamp(std::floor(ms / ms_per_ray / 2.0) * 2.0, 2.0, 1e6));
+    const RcReference equal = rc_reference(canvas, {.rays = rays, .seed = 11});
+    const Errors pe = errors(equal.mean, ref);
+    const nlohmann::json settings = run.summary["resolved"]["radiance_cascades"];
+    sweep["rows"].push_back({{"kind", "radiance_cascades"}, {"label", p.label()}, {"ms_per_frame", ms},
+                             {"errors", e.to_json()}, {"settings", settings}, {"checks_verdict", run.summary["verdict"]},
+                             {"summary", (std::filesystem::path(p.slug()) / "summary.json").string()}});
+    sweep["rows"].push_back({{"kind", "path_tracer_2d_equal_time"}, {"label", p.label()}, {"rays", rays},
+                             {"ms_per_frame", equal.seconds * 1000.0}, {"errors", pe.to_json()}});
+    rc_series.points.emplace_back(ms, e.relative_l1);
+    rc_series.labels.push_back(p.label());
+    pt_series.points.emplace_back(equal.seconds * 1000.0, pe.relative_l1);
+    pt_series.labels.push_back(fmt::format("{} rays", rays));
+    table.push_back({html_escape(p.label()), cell(ms), cell(e.relative_l1), cell(e.relmse), cell(e.energy),
+                     std::to_string(settings["cascades"].get<unsigned>()), std::to_string(rays),
+                     cell(equal.seconds * 1000.0), cell(pe.relative_l1), cell(pe.relmse)});
+    spdlog::info("sweep {}: {:.3f} ms/frame, relative L1 {:.4f} (path tracer at equal time: {} rays, {:.4f})", p.label(),
+                 ms, e.relative_l1, rays, pe.relative_l1);
+  }
+  std::filesystem::create_directories(o.out_dir);
+  write_json_file(o.out_dir / "sweep.json", sweep);
+  const Plot plot{"radiance cascades: error against time per frame", "ms/frame", "relative L1 against the 2D path tracer",
+                  true, true, {rc_series, pt_series}};
+  const std::vector<PlotResult> drawn = render_plots({plot}, o.out_dir / "plots");
+  std::string body = "<h1>giharness sweep (radiance cascades): " + html_escape(base.file.string()) + "</h1>\n";
+  body += "<p>" + html_escape(sweep["method"].get<std::string>()) + "</p>\n";
+  body += html_table({"point", "ms/frame", "relative L1", "relMSE", "energy ratio", "cascades",
+                      "path tracer rays (equal time)", "path tracer ms", "path tracer relative L1",
+                      "path tracer relMSE"},
+                     table);
+  body += html_plot(drawn[0], "error against time per frame");
+  write_text_file(o.out_dir / "report.html", html_page("giharness sweep", body));
+  spdlog::info("sweep: {} points; table {}; report {}", points.size(), (o.out_dir / "sweep.json").string(),
+               (o.out_dir / "report.html").string());
+  return 0;
+}
+
+}  // namespace gi
