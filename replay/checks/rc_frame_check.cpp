@@ -18,8 +18,12 @@ RcFrameCheck::RcFrameCheck(const CheckContext& c, std::string name)
   const nlohmann::json& p = c.spec.params;
   if (p.contains("frames")) {
     const nlohmann::json& f = reader_.array(p["frames"], c.spec.json_path + "/frames", 1);
-    for (std::size_t i = 0; i < f.size(); ++i)
-      frames_.insert(reader_.uint(f[i], JsonReader::at(c.spec.json_path + "/frames", i), 0, c.frames - 1));
+    // Frames past a shorter run (--frames) are left out, as a replay leaves out those before it.
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const std::uint32_t frame =
+          reader_.uint(f[i], JsonReader::at(c.spec.json_path + "/frames", i), 0, c.scenario.frames - 1);
+      if (frame < c.frames) frames_.insert(frame);
+    }
   } else {
     frames_.insert(c.frames - 1);
   }
