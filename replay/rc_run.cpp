@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/exr_io.h"
+#include "core/json_input.h"
 #include "core/profile.h"
 #include "core/rc/rc_reference.h"
 #include "core/rc/rc_settings.h"
@@ -62,7 +63,8 @@ Image grey(const std::vector<float>& v, std::uint32_t w, std::uint32_t h) {
 // captures/frame_NNNNN/images.exr (output, scene, distance, cascade_<c> for
 // each cascade after its merge) and mipmap.exr, and what they were made of.
 void write_capture(const std::filesystem::path& out, std::uint32_t frame, gpu::Device& device,
-                   gpu::RcPipeline& pipeline, const Canvas& canvas) {
+                   gpu::RcPipeline& pipeline, const Canvas& canvas, const std::string& image_hash,
+                   const nlohmann::json& run) {
   const RcSettings& s = pipeline.settings();
   std::map<std::uint32_t, Image> cascades;
   std::vector<gpu::Buffer> copies;
@@ -91,6 +93,8 @@ void write_capture(const std::filesystem::path& out, std::uint32_t frame, gpu::D
   write_exr(dir / "mipmap.exr", {{"", &mip}});
   write_json_file(dir / "manifest.json", {{"frame", frame},
                                           {"pipeline", "radiance_cascades"},
+                                          {"image_hash", image_hash},
+                                          {"run", run},
                                           {"settings", s.to_json()},
                                           {"canvas", canvas.to_json()},
                                           {"output_hash", bytes_hash(output.pixels.data(), output.pixels.size() * sizeof(glm::vec3))},
@@ -134,12 +138,33 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   const VkDeviceSize pixels = VkDeviceSize(settings.width) * settings.height;
   ReferenceCache references({.rays = 1024, .seed = seed});
 
+  // A replay (replay/cli/replay_command.cpp) starts at the captured frame
+  // itself: nothing carries between frames, so rendering it again is the
+  // proof that the bits are the same (its hash against the manifest's).
+  std::uint32_t first_frame = 0;
+  std::string resumed_hash;
+  if (!options.resume_from.empty()) {
+    const nlohmann::json m = read_json_input(options.resume_from / "manifest.json", "an RC capture's manifest");
+    first_frame = m.at("frame").get<std::uint32_t>();
+    resumed_hash = m.at("image_hash").get<std::string>();
+    if (first_frame >= frames)
+      throw InputError((options.resume_from / "manifest.json").string(), "/frame",
+                       fmt::format("a captured frame below the run's {} frames", frames));
+  }
+  const nlohmann::json run_facts = {
+      {"scenario", {{"file", scenario.file.string()}, {"document", scenario.raw}}},
+      {"frames", frames},
+      {"seed", seed},
+      {"sets", options.sets},
+      {"profile_option", options.profile ? nlohmann::json(*options.profile) : nlohmann::json(nullptr)},
+      {"backend", gpu::backend_name(device.backend())}};
+
   FrameLog log(options.out_dir / "frames.jsonl");
   std::vector<double> wall_ms;
   std::vector<std::string> image_hashes;
   std::optional<std::uint64_t> uploaded;
   Image last;
-  for (std::uint32_t f = 0; f < frames; ++f) {
+  for (std::uint32_t f = first_frame; f < frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     const Canvas canvas = canvas_at_frame(initial, scenario, f);
     if (uploaded != canvas.hash()) {
@@ -173,12 +198,19 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
       if (c.needs.frames && !c.needs.frames->count(f)) continue;
       c.check->observe(FrameView(data, c.needs.reads), record);
     }
-    if (captures.count(f)) write_capture(options.out_dir, f, device, pipeline, canvas);
+    if (captures.count(f) && options.resume_from.empty())
+      write_capture(options.out_dir, f, device, pipeline, canvas, hasher.result(0), run_facts);
     if (f + 1 == frames) last = read_output();
     wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     record["wall_ms"] = wall_ms.back();
     log.add(record);
   }
+
+  // Each capture keeps the run's frame hashes, for a replay's --verify.
+  if (options.resume_from.empty())
+    for (std::uint32_t f : captures)
+      if (f < frames)
+        write_json_file(options.out_dir / capture_folder(f) / "run_hashes.json", {{"frame_images", image_hashes}});
 
   RunResult result;
   for (RcCheck& c : checks) result.checks.push_back(c.check->result());
@@ -224,16 +256,21 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   add_frames(log, wall_ms, s);
   s["final_image_hash"] = bytes_hash(last.pixels.data(), last.pixels.size() * sizeof(glm::vec3));
   s["hashes"] = {{"scheme", shader::WORD_HASH_SCHEME},
-                 {"first_frame", 0},
+                 {"first_frame", first_frame},
                  {"frame_images", image_hashes},
                  {"final_buffers", final_buffers}};
   write_exr(options.out_dir / kFinalImageFile, {{"", &last}}, ExrPixels::half);
   s["final_image"] = kFinalImageFile;
   nlohmann::json capture_files = nlohmann::json::array();
   for (std::uint32_t f : captures)
-    if (f < frames) capture_files.push_back(capture_images_file(f).string());
+    if (f < frames && options.resume_from.empty()) capture_files.push_back(capture_images_file(f).string());
   s["captures"] = capture_files;
   s["failure_captures"] = nlohmann::json::array();
+  if (!options.resume_from.empty())
+    s["resumed_from"] = {{"capture", options.resume_from.string()},
+                         {"frame", first_frame},
+                         {"captured_image_hash", resumed_hash},
+                         {"same_bits", !image_hashes.empty() && image_hashes.front() == resumed_hash}};
   s["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   write_json_file(options.out_dir / "summary.json", s);
   for (const CheckResult& c : result.checks)

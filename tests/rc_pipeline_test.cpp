@@ -4,6 +4,7 @@
 // frames they should, and captures that hold every intermediate.
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -134,6 +135,27 @@ TEST(RcPipeline, CapturesHoldTheDistanceFieldEveryCascadeAndTheMipmap) {
   const auto mip = read_exr(dir.path() / "captures/frame_00009/mipmap.exr").at("");
   EXPECT_EQ(mip.width, 64u);
   EXPECT_EQ(mip.height, 64u);
+}
+
+// A capture replays bit for bit: the replay renders the captured frame again
+// and the frames after it, and --verify holds each to the capturing run's hash.
+TEST(RcPipeline, ReplayFromACaptureIsBitIdenticalAndVerifyNoticesADifference) {
+  test::TempDir dir("rc_replay");
+  run(dir.path() / "run", "", "--capture 5");
+  const std::filesystem::path capture = dir.path() / "run/captures/frame_00005";
+  const auto ok = test::run_giharness("replay " + capture.string() + " --verify --out " + (dir.path() / "replay").string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  const nlohmann::json v = test::read_json(dir.path() / "replay/verify.json");
+  EXPECT_EQ(v["verdict"], "identical");
+  EXPECT_EQ(v["compared"], 5);
+  EXPECT_EQ(test::read_json(dir.path() / "replay/summary.json")["resumed_from"]["same_bits"], true);
+  // A capturing run whose frame 7 had other bits: the replay names it.
+  nlohmann::json hashes = test::read_json(capture / "run_hashes.json");
+  hashes["frame_images"][7] = "0000000000000000";
+  std::ofstream(capture / "run_hashes.json") << hashes.dump();
+  const auto bad = test::run_giharness("replay " + capture.string() + " --verify --out " + (dir.path() / "again").string());
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_EQ(test::read_json(dir.path() / "again/verify.json")["message"], "frame 7's image differs from the capturing run's");
 }
 
 }  // namespace

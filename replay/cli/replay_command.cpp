@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/check_catalog.h"
 #include "core/errors.h"
+#include "core/json_input.h"
 #include "core/scenario.h"
 #include "core/shared/word_hash.h"
 #include "replay/capture.h"
@@ -21,7 +22,55 @@
 
 namespace gi {
 
+namespace {
+
+// A capture of the radiance-cascades pipeline (replay/rc_run.h): its frames
+// carry nothing between them, so the replay renders the captured frame again
+// and continues; --verify compares each frame's image hash with the run's.
+int replay_rc(const ReplayOptions& o, const nlohmann::json& m) {
+  const nlohmann::json& run = m.at("run");
+  Scenario scenario = parse_scenario(run["scenario"]["document"], run["scenario"]["file"].get<std::string>());
+  scenario.capture.clear();
+  RunOptions ro;
+  ro.frames = o.frames.value_or(run["frames"].get<std::uint32_t>());
+  ro.seed = run["seed"].get<std::uint32_t>();
+  if (run["profile_option"].is_string()) ro.profile = run["profile_option"].get<std::string>();
+  ro.sets = run.value("sets", std::vector<std::string>{});
+  ro.backend = run.value("backend", std::string("auto"));
+  ro.device = o.device;
+  ro.out_dir = o.out_dir;
+  ro.resume_from = o.capture;
+  const std::uint32_t first = m["frame"].get<std::uint32_t>();
+  spdlog::info("replaying {} from frame {} to {} into {}", scenario.name, first, *ro.frames - 1, o.out_dir.string());
+  const RunResult result = run_scenario(scenario, ro);
+  if (!o.verify) return result.exit_code;
+  const nlohmann::json original = read_json_input(o.capture / "run_hashes.json", "the capturing run's frame hashes");
+  const nlohmann::json& before = original.at("frame_images");
+  const nlohmann::json& after = result.summary["hashes"]["frame_images"];
+  nlohmann::json verify = {{"capture", o.capture.string()}, {"first_frame", first}, {"compared", 0}};
+  std::optional<std::uint32_t> divergent;
+  for (std::size_t i = 0; i < after.size() && first + i < before.size(); ++i) {
+    verify["compared"] = verify["compared"].get<int>() + 1;
+    if (after[i] != before[first + i] && !divergent) divergent = first + std::uint32_t(i);
+  }
+  const bool identical = !divergent && verify["compared"].get<int>() > 0;
+  verify["verdict"] = identical ? "identical" : divergent ? "divergent" : "nothing_compared";
+  verify["message"] = divergent ? fmt::format("frame {}'s image differs from the capturing run's", *divergent)
+                                : fmt::format("{} frames from {} bit-identical to the capturing run's",
+                                              verify["compared"].get<int>(), first);
+  write_json_file(o.out_dir / "verify.json", verify);
+  if (identical) spdlog::info("verify: {}", verify["message"].get<std::string>());
+  else spdlog::error("verify: {}", verify["message"].get<std::string>());
+  return identical ? 0 : 1;
+}
+
+}  // namespace
+
 int run_replay_command(const ReplayOptions& o) {
+  {
+    const nlohmann::json m = read_json_input(o.capture / "manifest.json", "a capture's manifest");
+    if (m.value("pipeline", std::string()) == "radiance_cascades") return replay_rc(o, m);
+  }
   const Capture capture = read_capture(o.capture);
   const nlohmann::json& m = capture.manifest;
   // This build hashes with WORD_HASH_SCHEME: an older capture's log cannot be compared.
