@@ -58,15 +58,36 @@ TEST(CheckRegistry, EveryDeclaredCheckIsMadeThroughTheRegistry) {
       {"ray_budget", {{"max_rays_per_path", 2.0}}},
       {"highlight_noise", {{"max_relmse", 1.0}}},
       {"shadow_lag", {{"event_frame", 4}, {"settle_frames", 3}}}};
+  // The radiance-cascades checks (rc_*) judge canvas scenarios only.
+  nlohmann::json rc_checks = nlohmann::json::array();
   for (const std::string& n : names) {
     nlohmann::json spec = {{"name", n}};
     if (required.count(n)) spec.update(required.at(n));
-    checks.push_back(spec);
+    if (n.rfind("rc_", 0) == 0) {
+      if (n == "rc_light_leak" || n == "rc_penumbra") spec["region"] = {0, 0, 8, 8};
+      rc_checks.push_back(spec);
+    } else {
+      checks.push_back(spec);
+    }
+  }
+  EXPECT_EQ(rc_checks.size(), 5u);
+  const Scenario rc = parse_scenario(
+      {{"name", "registry_rc"}, {"pipeline", "radiance_cascades"}, {"resolution", {16, 16}}, {"frames", 2},
+       {"scene", {{"shapes", {{{"name", "lamp"}, {"type", "ellipse"}, {"center", {8, 8}}, {"radii", {2, 2}}, {"emission", {1, 1, 1}}}}}}},
+       {"checks", rc_checks}},
+      "registry_rc.json");
+  const Profile rc_profile = resolve_profile(rc);
+  const Scene no_scene;
+  const RunOptions options;
+  for (const CheckSpec& spec : rc.checks) {
+    const CheckContext c{rc, spec, rc_profile, options, no_scene, rc.frames, rc.seed};
+    const std::unique_ptr<Check> check = make_check(c);
+    ASSERT_TRUE(check) << spec.name;
+    EXPECT_TRUE(check->needs().reads.count(FrameInput::rc_reference)) << spec.name;
   }
   const Scenario s = realtime_gi_scenario(checks);
   const Profile profile = resolve_profile(s);
   const Scene initial = build_scene(s);
-  const RunOptions options;
   for (const CheckSpec& spec : s.checks) {
     const CheckContext c{s, spec, profile, options, initial, s.frames, s.seed, true, true, true};
     const std::unique_ptr<Check> check = make_check(c);

@@ -11,7 +11,7 @@
 
 #include "core/rc/rc_reference.h"
 #include "replay/checks/check_registry.h"
-#include "replay/checks/rc_frame_check.h"
+#include "replay/checks/rc_frame_check_base.h"
 
 namespace gi {
 namespace {

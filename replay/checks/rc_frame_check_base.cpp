@@ -1,4 +1,4 @@
-#include "replay/checks/rc_frame_check.h"
+#include "replay/checks/rc_frame_check_base.h"
 
 #include <algorithm>
 #include <cmath>
