@@ -6,20 +6,11 @@ namespace gi::gpu {
 
 using namespace gi::shader;
 
-namespace {
-
-RcPass make(Device& device, ShaderCompiler& compiler, const RcBuffers& b, int from) {
-  RcPass p(device, compiler, JfaStep::kShader, {BINDING_RC_SEEDS_IN, BINDING_RC_SEEDS_OUT, BINDING_RC_DISTANCE});
-  p.bind(BINDING_RC_SEEDS_IN, b.seeds[from]);
-  p.bind(BINDING_RC_SEEDS_OUT, b.seeds[1 - from]);
-  p.bind(BINDING_RC_DISTANCE, b.distance);
-  return p;
-}
-
-}  // namespace
-
 JfaStep::JfaStep(Device& device, ShaderCompiler& compiler, const RcBuffers& b)
-    : passes_{make(device, compiler, b, 0), make(device, compiler, b, 1)} {}
+    : passes_{RcPass(device, compiler, kShader,
+                     {{BINDING_RC_SEEDS_IN, &b.seeds[0]}, {BINDING_RC_SEEDS_OUT, &b.seeds[1]}, {BINDING_RC_DISTANCE, &b.distance}}),
+              RcPass(device, compiler, kShader,
+                     {{BINDING_RC_SEEDS_IN, &b.seeds[1]}, {BINDING_RC_SEEDS_OUT, &b.seeds[0]}, {BINDING_RC_DISTANCE, &b.distance}})} {}
 
 std::vector<std::uint32_t> JfaStep::jumps(std::uint32_t width, std::uint32_t height) {
   std::uint32_t k = 1;

@@ -5,11 +5,7 @@ namespace gi::gpu {
 using namespace gi::shader;
 
 RcApply::RcApply(Device& device, ShaderCompiler& compiler, const RcBuffers& b)
-    : pass_(device, compiler, kShader, {BINDING_RC_SCENE, BINDING_RC_MIPMAP, BINDING_RC_OUTPUT}) {
-  pass_.bind(BINDING_RC_SCENE, b.scene);
-  pass_.bind(BINDING_RC_MIPMAP, b.mipmap);
-  pass_.bind(BINDING_RC_OUTPUT, b.output);
-}
+    : pass_(device, compiler, kShader, {{BINDING_RC_SCENE, &b.scene}, {BINDING_RC_MIPMAP, &b.mipmap}, {BINDING_RC_OUTPUT, &b.output}}) {}
 
 void RcApply::record(VkCommandBuffer cmd, const RcPush& push) const { pass_.dispatch(cmd, push.width, push.height, push); }
 

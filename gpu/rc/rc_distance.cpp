@@ -5,13 +5,8 @@ namespace gi::gpu {
 using namespace gi::shader;
 
 RcDistance::RcDistance(Device& device, ShaderCompiler& compiler, const RcBuffers& b)
-    : pass_(device, compiler, kShader, {BINDING_RC_SHAPES, BINDING_RC_DISTANCE}) {
-  pass_.bind(BINDING_RC_SHAPES, b.shapes);
-  pass_.bind(BINDING_RC_DISTANCE, b.distance);
-}
+    : pass_(device, compiler, kShader, {{BINDING_RC_SHAPES, &b.shapes}, {BINDING_RC_DISTANCE, &b.distance}}) {}
 
-void RcDistance::record(VkCommandBuffer cmd, const RcPush& push) const {
-  pass_.dispatch(cmd, push.width, push.height, push);
-}
+void RcDistance::record(VkCommandBuffer cmd, const RcPush& push) const { pass_.dispatch(cmd, push.width, push.height, push); }
 
 }  // namespace gi::gpu

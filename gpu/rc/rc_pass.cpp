@@ -5,14 +5,21 @@
 
 namespace gi::gpu {
 
-RcPass::RcPass(Device& device, ShaderCompiler& compiler, const char* shader, std::vector<std::uint32_t> bindings)
+namespace {
+
+std::vector<DescriptorBinding> storage(const RcPass::Bindings& bindings) {
+  std::vector<DescriptorBinding> out;
+  for (const auto& [binding, _] : bindings) out.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  return out;
+}
+
+}  // namespace
+
+RcPass::RcPass(Device& device, ShaderCompiler& compiler, const char* shader, const Bindings& bindings)
     : pass_(device, std::filesystem::path(shader).stem().string(), compiler.compile_file(shader).spirv,
-            [&] {
-              std::vector<DescriptorBinding> out;
-              for (std::uint32_t b : bindings) out.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
-              return out;
-            }(),
-            sizeof(shader::RcPush)) {}
+            storage(bindings), sizeof(shader::RcPush)) {
+  for (const auto& [binding, buffer] : bindings) pass_.bind_buffer(binding, *buffer);
+}
 
 void RcPass::dispatch(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height,
                       const shader::RcPush& push) const {

@@ -8,6 +8,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -28,11 +29,12 @@ struct RcBuffers {
   Buffer output;                  // vec4 per pixel
 };
 
-// One pipeline of an RC pass and the dispatch over a grid of texels.
+// One pipeline of an RC pass, its storage buffers bound once, and the
+// dispatch over a grid of texels.
 class RcPass {
  public:
-  RcPass(Device& device, ShaderCompiler& compiler, const char* shader, std::vector<std::uint32_t> bindings);
-  void bind(std::uint32_t binding, const Buffer& buffer) { pass_.bind_buffer(binding, buffer); }
+  using Bindings = std::vector<std::pair<std::uint32_t, const Buffer*>>;
+  RcPass(Device& device, ShaderCompiler& compiler, const char* shader, const Bindings& bindings);
   void dispatch(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height, const shader::RcPush& push) const;
 
  private:

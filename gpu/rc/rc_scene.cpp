@@ -5,10 +5,7 @@ namespace gi::gpu {
 using namespace gi::shader;
 
 RcScene::RcScene(Device& device, ShaderCompiler& compiler, const RcBuffers& b)
-    : pass_(device, compiler, kShader, {BINDING_RC_SHAPES, BINDING_RC_SCENE}) {
-  pass_.bind(BINDING_RC_SHAPES, b.shapes);
-  pass_.bind(BINDING_RC_SCENE, b.scene);
-}
+    : pass_(device, compiler, kShader, {{BINDING_RC_SHAPES, &b.shapes}, {BINDING_RC_SCENE, &b.scene}}) {}
 
 void RcScene::record(VkCommandBuffer cmd, const RcPush& push) const { pass_.dispatch(cmd, push.width, push.height, push); }
 
