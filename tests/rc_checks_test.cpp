@@ -82,6 +82,13 @@ TEST(RcChecks, RingingFiresAroundASmallLampAndNotAroundALargeOne) {
   // The peak sits by an interval boundary (2, 10, 42 px from the lamp).
   EXPECT_NEAR(c["figures"]["peak_radius"].get<double>(), c["figures"]["nearest_boundary"].get<double>(), 8.0);
   EXPECT_LT(large.check("rc_ringing")["figures"]["swing"].get<double>(), 0.25);
+  // The bilinear fix (rc.merge) reaches each coarser probe by a ray of its
+  // own: the small lamp's rings halve and the check passes.
+  const Verdicts fixed = run(dir.path(), "rc_lamp_rings.json", "small_fixed",
+                             [](nlohmann::json& d) { d["scene"]["shapes"][0]["radii"] = {2, 2}; },
+                             "--set rc.merge=bilinear_fix");
+  EXPECT_EQ(fixed.check("rc_ringing")["verdict"], "pass") << fixed.check("rc_ringing").dump();
+  EXPECT_LT(fixed.check("rc_ringing")["figures"]["swing"].get<double>(), 0.6 * c["figures"]["swing"].get<double>());
 }
 
 TEST(RcChecks, LightLeaksThroughAWallThinnerThanAProbeSpacing) {
@@ -94,6 +101,12 @@ TEST(RcChecks, LightLeaksThroughAWallThinnerThanAProbeSpacing) {
   EXPECT_EQ(c["verdict"], "fail") << c.dump();
   EXPECT_EQ(c["figures"]["region_reference_mean"].get<double>(), 0.0);  // the path tracer: no light at all
   EXPECT_GT(c["figures"]["leak"].get<double>(), 2 * thick.check("rc_light_leak")["figures"]["leak"].get<double>());
+  // With the bilinear fix no coarser probe is reached through the wall: no leak at all.
+  const Verdicts fixed = run(dir.path(), "rc_wall_leak.json", "thin_fixed",
+                             [](nlohmann::json& d) { d["scene"]["shapes"][1]["max"] = {65, 128}; },
+                             "--set rc.merge=bilinear_fix");
+  EXPECT_EQ(fixed.check("rc_light_leak")["verdict"], "pass");
+  EXPECT_LT(fixed.check("rc_light_leak")["figures"]["leak"].get<double>(), 1e-3);
 }
 
 TEST(RcChecks, PenumbraBlursAGratingFinerThanTheProbeSpacing) {

@@ -80,6 +80,7 @@ TEST(RcCascades, CountComesFromTheDiagonalAndTheWidestProbeTilesTheCanvas) {
   EXPECT_EQ(s.cascades, 5u);
   EXPECT_FALSE(s.jfa);
   EXPECT_EQ(s.mipmap_mode, RC_MIPMAP_PROBE_WIDTH_X2);
+  EXPECT_EQ(s.merge, RC_MERGE_LESSON);
   // 96 = 3·32: cascade 4's 32-px probes tile it, so all five run; 100 is tiled by 4-px probes only.
   EXPECT_EQ(rc_settings(p, 160, 96).cascades, 5u);
   const RcSettings odd = rc_settings(p, 100, 100);

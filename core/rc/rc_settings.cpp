@@ -34,7 +34,8 @@ nlohmann::json RcSettings::to_json() const {
           {"cascades", cascades},
           {"probes", probes},
           {"mipmap", {mip_width(), mip_height()}},
-          {"mipmap_divisor", mipmap_mode == shader::RC_MIPMAP_RAY_COUNT ? "ray_count" : "probe_width_x2"}};
+          {"mipmap_divisor", mipmap_mode == shader::RC_MIPMAP_RAY_COUNT ? "ray_count" : "probe_width_x2"},
+          {"merge", merge == shader::RC_MERGE_BILINEAR_FIX ? "bilinear_fix" : "lesson"}};
 }
 
 RcSettings rc_settings(const Profile& profile, std::uint32_t width, std::uint32_t height) {
@@ -58,6 +59,7 @@ RcSettings rc_settings(const Profile& profile, std::uint32_t width, std::uint32_
   s.hit_epsilon = float(profile.number("rc.hit_epsilon"));
   s.mipmap_mode = profile.text("rc.mipmap_divisor") == "ray_count" ? shader::RC_MIPMAP_RAY_COUNT
                                                                      : shader::RC_MIPMAP_PROBE_WIDTH_X2;
+  s.merge = profile.text("rc.merge") == "bilinear_fix" ? shader::RC_MERGE_BILINEAR_FIX : shader::RC_MERGE_LESSON;
   return s;
 }
 

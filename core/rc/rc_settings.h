@@ -23,6 +23,7 @@ struct RcSettings {
   std::uint32_t max_steps = 32;
   float hit_epsilon = 4.88e-4f;
   std::uint32_t mipmap_mode = shader::RC_MIPMAP_PROBE_WIDTH_X2;
+  std::uint32_t merge = shader::RC_MERGE_LESSON;
 
   shader::RcProbe probe(std::uint32_t cascade) const {
     return shader::rc_probe_for_cascade(cascade, resolution_factor, interval0);

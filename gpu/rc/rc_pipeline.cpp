@@ -67,6 +67,7 @@ RcPush RcPipeline::push_for(std::uint32_t cascade) const {
   p.max_steps = settings_.max_steps;
   p.hit_epsilon = settings_.hit_epsilon;
   p.mipmap_mode = settings_.mipmap_mode;
+  p.merge_fix = settings_.merge;
   p.mip_width = settings_.mip_width();
   p.mip_height = settings_.mip_height();
   return p;

@@ -34,7 +34,8 @@ struct RcPush {
   uint jfa_last;         // jfa_step: 1 on the last round, which writes the distance field
   uint mipmap_mode;      // rc_mipmap: RC_MIPMAP_* (core/shared/rc/cascades.h)
   uint mip_width, mip_height;
-  uint pad0, pad1;
+  uint merge_fix;        // rc_cascade: RC_MERGE_* (core/shared/rc/cascades.h)
+  uint pad1;
 };
 
 GI_SHADER_END

@@ -24,6 +24,12 @@ GI_CONST uint RC_GROUP = 8u;  // 8×8 workgroups for every RC pass
 GI_CONST uint RC_MIPMAP_PROBE_WIDTH_X2 = 0u;  // the lesson's width·2: right only when width = 2
 GI_CONST uint RC_MIPMAP_RAY_COUNT = 1u;       // width², the mean over the probe's rays
 
+// How rc_cascade merges the coarser cascade into a ray that misses.
+GI_CONST uint RC_MERGE_LESSON = 0u;        // the lesson's: the fine ray's own interval, then the four coarser
+                                            // probes' radiance, bilinearly
+GI_CONST uint RC_MERGE_BILINEAR_FIX = 1u;  // each of the four coarser probes is reached by a ray of its own, from
+                                            // the fine interval's start to that probe's interval start
+
 struct RcProbe {
   uint width;   // texels per probe edge; rays per probe = width²
   float start;  // where its rays begin, from the probe centre (pixels)
