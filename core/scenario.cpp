@@ -486,6 +486,11 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   return s;
 }
 
+float event_progress(const Event& e, std::uint32_t frame) {
+  if (!e.ranged || frame >= e.last || e.last == e.first) return 1.0f;
+  return static_cast<float>(static_cast<double>(frame - e.first) / static_cast<double>(e.last - e.first));
+}
+
 Scenario load_scenario(const std::filesystem::path& file) {
   return parse_scenario(read_json_input(file, "a readable scenario file"), file);
 }

@@ -180,6 +180,10 @@ Scenario load_scenario(const std::filesystem::path& file);
 // base of relative paths (glTF scenes).
 Scenario parse_scenario(const nlohmann::json& doc, const std::filesystem::path& file);
 
+// How far a ranged event has come at `frame`: 1 for a "frame" event and
+// once f >= last, else (f − first) / (last − first) (replay/events.h).
+float event_progress(const Event& e, std::uint32_t frame);
+
 // The order events are applied in: by start frame (Event::first), then by
 // position in the file. Indices into scenario.events.
 std::vector<std::size_t> event_order(const Scenario& scenario);

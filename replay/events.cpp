@@ -32,11 +32,6 @@ struct State {
   std::unordered_map<std::string, std::uint32_t> instance_index;
 };
 
-float progress(const Event& e, std::uint32_t frame) {
-  if (!e.ranged || frame >= e.last || e.last == e.first) return 1.0f;
-  return static_cast<float>(static_cast<double>(frame - e.first) / static_cast<double>(e.last - e.first));
-}
-
 template <class T>
 T lerp_to(const T& a, const T& b, float t) {
   if (t >= 1.0f) return b;  // exact at the end of a range
@@ -78,7 +73,7 @@ void set_camera_pose(Camera& cam, const glm::vec3& p, const glm::vec3& t, std::o
 }
 
 void apply(State& st, const Scene& initial, const Scenario& s, const Event& e, std::uint32_t frame) {
-  const float t = progress(e, frame);
+  const float t = event_progress(e, frame);
   switch (e.type) {
     case EventType::LightOn:
     case EventType::LightOff:

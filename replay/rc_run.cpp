@@ -167,9 +167,9 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   for (std::uint32_t f = first_frame; f < frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     const Canvas canvas = canvas_at_frame(initial, scenario, f);
-    if (uploaded != canvas.hash()) {
+    if (const std::uint64_t h = canvas.hash(); uploaded != h) {
       pipeline.set_canvas(canvas);
-      uploaded = canvas.hash();
+      uploaded = h;
     }
     device.submit_and_wait([&](VkCommandBuffer cmd) {
       timer.begin_frame(cmd);

@@ -66,11 +66,6 @@ shader::RcShape gpu_shape(std::uint32_t kind, glm::vec4 geometry, glm::vec3 radi
   return g;
 }
 
-float progress(const Event& e, std::uint32_t frame) {
-  if (!e.ranged || frame >= e.last || e.last == e.first) return 1.0f;
-  return float(frame - e.first) / float(e.last - e.first);
-}
-
 }  // namespace
 
 const CanvasShape* Canvas::find(const std::string& name) const {
@@ -175,7 +170,7 @@ Canvas canvas_at_frame(const Canvas& initial, const Scenario& scenario, std::uin
   for (std::size_t i : event_order(scenario)) {
     const Event& e = scenario.events[i];
     if (e.first > frame) continue;
-    const float t = progress(e, frame);
+    const float t = event_progress(e, frame);
     auto shape = [&](const std::string& name) {
       return std::find_if(c.shapes.begin(), c.shapes.end(), [&](const CanvasShape& s) { return s.name == name; });
     };

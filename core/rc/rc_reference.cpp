@@ -68,6 +68,25 @@ float hit_capsule(glm::vec4 g, float hw, glm::vec2 o, glm::vec2 d) {
 
 }  // namespace
 
+double rc_luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+RcComparison rc_compare(const Image& image, const RcReference& ref, std::uint32_t x0, std::uint32_t y0,
+                        std::uint32_t x1, std::uint32_t y1) {
+  RcComparison c;
+  for (std::uint32_t y = y0; y < y1; ++y)
+    for (std::uint32_t x = x0; x < x1; ++x) {
+      const std::size_t i = std::size_t(y) * image.width + x;
+      if (!ref.free[i]) continue;
+      const double o = rc_luminance(image.pixels[i]), r = rc_luminance(ref.mean.pixels[i]);
+      const double d = rc_luminance(ref.half_a.pixels[i]) - rc_luminance(ref.half_b.pixels[i]);
+      ++c.pixels;
+      c.output += o, c.reference += r;
+      c.abs_error += std::abs(o - r), c.sq_error += (o - r) * (o - r), c.reference_sq += r * r;
+      c.noise_abs += 0.5 * std::abs(d), c.noise_var += d * d / 4.0;
+    }
+  return c;
+}
+
 std::size_t RcReference::free_count() const {
   std::size_t n = 0;
   for (std::uint8_t f : free) n += f;

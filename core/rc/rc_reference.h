@@ -38,6 +38,25 @@ struct RcReference {
 
 RcReference rc_reference(const Canvas& canvas, const RcReferenceOptions& options);
 
+// An image against the reference over the free pixels of [x0, x1) × [y0, y1)
+// (luminance, summed in double in row order): what the rc checks and the
+// sweep measure.
+struct RcComparison {
+  std::size_t pixels = 0;
+  double output = 0, reference = 0;  // ΣY, ΣY_ref
+  double abs_error = 0, sq_error = 0, reference_sq = 0;  // Σ|Y − Y_ref|, Σ(Y − Y_ref)², ΣY_ref²
+  double noise_abs = 0, noise_var = 0;  // Σ½|Y_a − Y_b|, Σ(Y_a − Y_b)²/4: the reference's own noise
+  double relative_l1() const { return reference > 0 ? abs_error / reference : 0.0; }
+  double relmse() const { return reference_sq > 0 ? sq_error / reference_sq : 0.0; }
+  double energy_ratio() const { return reference > 0 ? output / reference : 0.0; }
+};
+double rc_luminance(const glm::vec3& c);  // Rec. 709, in double
+RcComparison rc_compare(const Image& image, const RcReference& reference, std::uint32_t x0, std::uint32_t y0,
+                        std::uint32_t x1, std::uint32_t y1);
+inline RcComparison rc_compare(const Image& image, const RcReference& reference) {
+  return rc_compare(image, reference, 0, 0, image.width, image.height);
+}
+
 // The nearest t > 0 at which the ray origin + t·dir (dir unit length, origin
 // outside the shape) enters the shape; infinity when it does not.
 float rc_intersect(const shader::RcShape& shape, glm::vec2 origin, glm::vec2 dir);

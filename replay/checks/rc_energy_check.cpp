@@ -25,10 +25,10 @@ class RcEnergyCheck final : public RcFrameCheck {
   }
 
  private:
-  Judgement judge(const FrameView& frame, const Image& out, const RcReference& ref) override {
-    const RcStats s = stats(out, ref, {0, 0, frame.rc_canvas().width, frame.rc_canvas().height});
+  Judgement judge(const FrameView&, const Image& out, const RcReference& ref) override {
+    const RcComparison s = rc_compare(out, ref);
     Judgement j;
-    const double ratio = s.reference > 0 ? s.output / s.reference : 0.0;
+    const double ratio = s.energy_ratio();
     const double sigma = s.reference > 0 ? ratio * std::sqrt(s.noise_var) / s.reference : 0.0;
     j.figure = std::abs(ratio - 1.0);
     j.figures = {{"energy_ratio", ratio}, {"sigma", sigma}, {"pixels", s.pixels}};

@@ -11,8 +11,6 @@
 
 namespace gi {
 
-double rc_luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-
 RcFrameCheck::RcFrameCheck(const CheckContext& c, std::string name)
     : scenario_(c.scenario), spec_(c.spec), options_(c.options), reader_(c.scenario.file.string()), name_(std::move(name)) {
   const nlohmann::json& p = c.spec.params;
@@ -47,19 +45,10 @@ RcRegion RcFrameCheck::region(const std::string& key) const {
   return r;
 }
 
-RcStats RcFrameCheck::stats(const Image& output, const RcReference& ref, const RcRegion& where) const {
-  RcStats s;
-  for (std::uint32_t y = where.y0; y < where.y1; ++y)
-    for (std::uint32_t x = where.x0; x < where.x1; ++x) {
-      const std::size_t i = std::size_t(y) * output.width + x;
-      if (!ref.free[i]) continue;
-      ++s.pixels;
-      s.output += rc_luminance(output.pixels[i]);
-      s.reference += rc_luminance(ref.mean.pixels[i]);
-      const double d = rc_luminance(ref.half_a.pixels[i]) - rc_luminance(ref.half_b.pixels[i]);
-      s.noise_var += d * d / 4.0;
-    }
-  return s;
+RcRegion RcFrameCheck::required_region(const std::string& key, const std::string& what) const {
+  if (!spec_.params.contains(key))
+    reader_.fail(spec_.json_path + "/" + key, "missing required key \"" + key + "\" (" + what + ")");
+  return region(key);
 }
 
 void RcFrameCheck::observe(const FrameView& frame, nlohmann::json& record) {

@@ -12,27 +12,18 @@
 #include <vector>
 
 #include "core/json_reader.h"
+#include "core/rc/rc_reference.h"
 #include "replay/checks/check.h"
 
 namespace gi {
-
-struct RcReference;
 
 // A rectangle of pixels, [x0, x1) × [y0, y1), within the canvas.
 struct RcRegion {
   std::uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   bool contains(std::uint32_t x, std::uint32_t y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
   nlohmann::json to_json() const { return {x0, y0, x1, y1}; }
+  RcComparison compare(const Image& image, const RcReference& ref) const { return rc_compare(image, ref, x0, y0, x1, y1); }
 };
-
-// Luminance statistics of the output and the reference over free pixels.
-struct RcStats {
-  std::size_t pixels = 0;
-  double output = 0, reference = 0;  // sums of luminance
-  double noise_var = 0;              // Σ per-pixel variance of the reference's mean, (a − b)²/4
-};
-
-double rc_luminance(const glm::vec3& c);
 
 class RcFrameCheck : public Check {
  public:
@@ -55,8 +46,8 @@ class RcFrameCheck : public Check {
   // Larger is worse (false: smaller is worse).
   virtual bool larger_is_worse() const { return true; }
 
-  RcRegion region(const std::string& key) const;  // the "region" param's rectangle, or the whole canvas
-  RcStats stats(const Image& output, const RcReference& ref, const RcRegion& where) const;
+  RcRegion region(const std::string& key) const;  // the param's rectangle, or the whole canvas
+  RcRegion required_region(const std::string& key, const std::string& what) const;  // InputError without it
 
   // The context's long-lived parts (the context itself is a temporary).
   const Scenario& scenario_;

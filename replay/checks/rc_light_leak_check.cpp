@@ -21,15 +21,13 @@ class RcLightLeakCheck final : public RcFrameCheck {
  public:
   explicit RcLightLeakCheck(const CheckContext& c) : RcFrameCheck(c, "rc_light_leak") {
     const nlohmann::json& p = c.spec.params;
-    if (!p.contains("region")) reader_.fail(c.spec.json_path + "/region", "missing required key \"region\" (the shadowed side)");
-    region_ = region("region");
+    region_ = required_region("region", "the shadowed side");
     if (p.contains("max_leak")) max_leak_ = reader_.number(p["max_leak"], c.spec.json_path + "/max_leak", 0.0, 100.0);
   }
 
  private:
-  Judgement judge(const FrameView& frame, const Image& out, const RcReference& ref) override {
-    const RcStats all = stats(out, ref, {0, 0, frame.rc_canvas().width, frame.rc_canvas().height});
-    const RcStats in = stats(out, ref, region_);
+  Judgement judge(const FrameView&, const Image& out, const RcReference& ref) override {
+    const RcComparison all = rc_compare(out, ref), in = region_.compare(out, ref);
     Judgement j;
     const double mean_all = all.pixels ? all.reference / double(all.pixels) : 0.0;
     const double n = double(std::max<std::size_t>(in.pixels, 1));

@@ -25,8 +25,7 @@ class RcPenumbraCheck final : public RcFrameCheck {
  public:
   explicit RcPenumbraCheck(const CheckContext& c) : RcFrameCheck(c, "rc_penumbra") {
     const nlohmann::json& p = c.spec.params;
-    if (!p.contains("region")) reader_.fail(c.spec.json_path + "/region", "missing required key \"region\" (the shadow detail)");
-    region_ = region("region");
+    region_ = required_region("region", "the shadow detail");
     if (p.contains("min_kept")) min_kept_ = reader_.number(p["min_kept"], c.spec.json_path + "/min_kept", 0.0, 1.0);
     if (p.contains("across")) across_ = reader_.one_of(p["across"], c.spec.json_path + "/across", {"x", "y"});
   }

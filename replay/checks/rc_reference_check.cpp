@@ -5,8 +5,6 @@
 // half estimates), so a noisy reference cannot fail a good pipeline; when
 // that noise alone is a third of the limit the verdict is inconclusive.
 // The signed bias (ΣY_rc / ΣY_ref − 1) is reported beside it; rc_energy judges it.
-#include <cmath>
-
 #include <fmt/format.h>
 
 #include "core/rc/rc_reference.h"
@@ -25,23 +23,15 @@ class RcReferenceCheck final : public RcFrameCheck {
 
  private:
   Judgement judge(const FrameView&, const Image& out, const RcReference& ref) override {
-    double abs_error = 0, sum_ref = 0, sum_out = 0, noise = 0;
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      if (!ref.free[i]) continue;
-      const double o = rc_luminance(out.pixels[i]), r = rc_luminance(ref.mean.pixels[i]);
-      abs_error += std::abs(o - r);
-      sum_ref += r;
-      sum_out += o;
-      noise += 0.5 * std::abs(rc_luminance(ref.half_a.pixels[i]) - rc_luminance(ref.half_b.pixels[i]));
-    }
+    const RcComparison c = rc_compare(out, ref);
     Judgement j;
-    const double e = sum_ref > 0 ? abs_error / sum_ref : 0.0, n = sum_ref > 0 ? noise / sum_ref : 0.0;
+    const double e = c.relative_l1(), n = c.reference > 0 ? c.noise_abs / c.reference : 0.0;
     j.figure = e;
-    j.figures = {{"relative_error", e}, {"bias", sum_ref > 0 ? sum_out / sum_ref - 1.0 : 0.0},
+    j.figures = {{"relative_error", e}, {"bias", c.reference > 0 ? c.energy_ratio() - 1.0 : 0.0},
                  {"reference_noise", n}, {"tolerance", max_error_ + 3 * n}, {"reference_rays", ref.rays}};
-    j.verdict = sum_ref <= 0 || 3 * n > max_error_ ? Verdict::inconclusive
-                : e > max_error_ + 3 * n          ? Verdict::fail
-                                                  : Verdict::pass;
+    j.verdict = c.reference <= 0 || 3 * n > max_error_ ? Verdict::inconclusive
+                : e > max_error_ + 3 * n              ? Verdict::fail
+                                                      : Verdict::pass;
     return j;
   }
   std::string describe(const Judgement& j, std::uint32_t frame) const override {

@@ -34,21 +34,8 @@
 namespace gi {
 namespace {
 
-double lum(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-
-struct Errors {
-  double relative_l1 = 0, relmse = 0, energy = 0;
-  nlohmann::json to_json() const { return {{"relative_l1", relative_l1}, {"relmse", relmse}, {"energy_ratio", energy}}; }
-};
-
-Errors errors(const Image& image, const RcReference& ref) {
-  double l1 = 0, sq = 0, sum = 0, sum2 = 0, out = 0;
-  for (std::size_t i = 0; i < image.size(); ++i) {
-    if (!ref.free[i]) continue;
-    const double o = lum(image.pixels[i]), r = lum(ref.mean.pixels[i]);
-    l1 += std::abs(o - r), sq += (o - r) * (o - r), sum += r, sum2 += r * r, out += o;
-  }
-  return {sum > 0 ? l1 / sum : 0.0, sum2 > 0 ? sq / sum2 : 0.0, sum > 0 ? out / sum : 0.0};
+nlohmann::json errors_json(const RcComparison& c) {
+  return {{"relative_l1", c.relative_l1()}, {"relmse", c.relmse()}, {"energy_ratio", c.energy_ratio()}};
 }
 
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "&ndash;"; }
@@ -95,19 +82,19 @@ int run_rc_sweep(const SweepOptions& o, const Scenario& base, const std::vector<
       curve.title = "2D path tracer, 2 to 2048 rays per pixel";
       for (std::uint32_t r = 2; r <= 2048; r *= 2) {
         const RcReference run = rc_reference(canvas, {.rays = r, .seed = 13});
-        curve.points.emplace_back(run.seconds * 1000.0, errors(run.mean, it->second).relative_l1);
+        curve.points.emplace_back(run.seconds * 1000.0, rc_compare(run.mean, it->second).relative_l1());
         curve.labels.push_back(std::to_string(r));
       }
     }
     const RcReference& ref = it->second;
-    const Errors e = errors(image, ref);
+    const RcComparison e = rc_compare(image, ref);
     // The path tracer's cost, a per-render and a per-ray part, from two short runs.
     const double t16 = rc_reference(canvas, {.rays = 16, .seed = 7}).seconds * 1000.0;
     const double t64 = rc_reference(canvas, {.rays = 64, .seed = 7}).seconds * 1000.0;
     const double per_ray = std::max((t64 - t16) / 48.0, 1e-6), fixed = std::max(t16 - 16.0 * per_ray, 0.0);
     const auto rays = std::uint32_t(std::clamp(std::floor((ms - fixed) / per_ray / 2.0) * 2.0, 2.0, 1e6));
     const RcReference equal = rc_reference(canvas, {.rays = rays, .seed = 11});
-    const Errors pe = errors(equal.mean, ref);
+    const RcComparison pe = rc_compare(equal.mean, ref);
     const nlohmann::json settings = run.summary["resolved"]["radiance_cascades"];
     // The time the path tracer needs for the point's error, log-log between
     // the two rungs of its curve around it (none past its last rung).
@@ -116,27 +103,27 @@ int run_rc_sweep(const SweepOptions& o, const Scenario& base, const std::vector<
     for (std::size_t k = 0; k + 1 < curve.size(); ++k) {
       const auto [t0, e0] = curve[k];
       const auto [t1, e1] = curve[k + 1];
-      if (e0 >= e.relative_l1 && e1 <= e.relative_l1 && e0 > e1) {
-        const double u = std::log(e0 / e.relative_l1) / std::log(e0 / e1);
+      if (e0 >= e.relative_l1() && e1 <= e.relative_l1() && e0 > e1) {
+        const double u = std::log(e0 / e.relative_l1()) / std::log(e0 / e1);
         equal_error_ms = std::exp(std::log(t0) + u * (std::log(t1) - std::log(t0)));
         break;
       }
     }
     sweep["rows"].push_back({{"kind", "radiance_cascades"}, {"label", p.label()}, {"ms_per_frame", ms},
-                             {"errors", e.to_json()}, {"settings", settings}, {"checks_verdict", run.summary["verdict"]},
+                             {"errors", errors_json(e)}, {"settings", settings}, {"checks_verdict", run.summary["verdict"]},
                              {"path_tracer_ms_to_equal_error", std::isfinite(equal_error_ms) ? nlohmann::json(equal_error_ms) : nlohmann::json(nullptr)},
                              {"summary", (std::filesystem::path(p.slug()) / "summary.json").string()}});
     sweep["rows"].push_back({{"kind", "path_tracer_2d_equal_time"}, {"label", p.label()}, {"rays", rays},
-                             {"ms_per_frame", equal.seconds * 1000.0}, {"errors", pe.to_json()}});
-    rc_series.points.emplace_back(ms, e.relative_l1);
+                             {"ms_per_frame", equal.seconds * 1000.0}, {"errors", errors_json(pe)}});
+    rc_series.points.emplace_back(ms, e.relative_l1());
     rc_series.labels.push_back(p.label());
-    pt_series.points.emplace_back(equal.seconds * 1000.0, pe.relative_l1);
+    pt_series.points.emplace_back(equal.seconds * 1000.0, pe.relative_l1());
     pt_series.labels.push_back(fmt::format("{} rays", rays));
-    table.push_back({html_escape(p.label()), cell(ms), cell(e.relative_l1), cell(e.relmse), cell(e.energy),
+    table.push_back({html_escape(p.label()), cell(ms), cell(e.relative_l1()), cell(e.relmse()), cell(e.energy_ratio()),
                      std::to_string(settings["cascades"].get<unsigned>()), std::to_string(rays),
-                     cell(equal.seconds * 1000.0), cell(pe.relative_l1), cell(pe.relmse), cell(equal_error_ms)});
+                     cell(equal.seconds * 1000.0), cell(pe.relative_l1()), cell(pe.relmse()), cell(equal_error_ms)});
     spdlog::info("sweep {}: {:.3f} ms/frame, relative L1 {:.4f} (path tracer at equal time: {} rays, {:.4f})", p.label(),
-                 ms, e.relative_l1, rays, pe.relative_l1);
+                 ms, e.relative_l1(), rays, pe.relative_l1());
   }
   std::filesystem::create_directories(o.out_dir);
   std::vector<PlotSeries> series = {rc_series, pt_series};
