@@ -126,6 +126,33 @@ double mean_luminance_sigma(const Image& half_a, const Image& half_b) {
   return n ? std::sqrt(sum) / double(n) : 0.0;
 }
 
+double student_t_quantile(double p, std::uint32_t dof) {
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("student_t_quantile: p outside (0, 1)");
+  if (p < 0.5) return -student_t_quantile(1.0 - p, dof);
+  const double nu = dof;
+  // log of the density's normalising constant (0: the normal's).
+  const double log_c = dof == 0 ? -0.5 * std::log(2.0 * M_PI)
+                                : std::lgamma((nu + 1.0) / 2.0) - std::lgamma(nu / 2.0) - 0.5 * std::log(nu * M_PI);
+  const auto density = [&](double t) {
+    return std::exp(dof == 0 ? log_c - 0.5 * t * t : log_c - (nu + 1.0) / 2.0 * std::log1p(t * t / nu));
+  };
+  // CDF(t) − 1/2 by Simpson's rule on [0, t] (fine steps: the quantiles used here are below ~300).
+  const auto upper_half = [&](double t) {
+    const int n = 20000;
+    const double h = t / n;
+    double sum = density(0.0) + density(t);
+    for (int i = 1; i < n; ++i) sum += density(i * h) * (i % 2 ? 4.0 : 2.0);
+    return sum * h / 3.0;
+  };
+  double lo = 0.0, hi = 1.0;
+  while (upper_half(hi) < p - 0.5) hi *= 2.0;
+  for (int i = 0; i < 100 && hi - lo > 1e-9 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (upper_half(mid) < p - 0.5 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 Comparison compare(const Image& x_mean, const Image& x_half_a, const Image& x_half_b, const Image& y_mean,
                    const Image& y_half_a, const Image& y_half_b) {
   require_same_size(x_mean, y_mean, "compare");
@@ -173,9 +200,15 @@ ComparisonVerdict Comparison::judge(double noise_factor, double energy_tolerance
                (rel_tol > 0 ? " + tolerance " + fmt(rel_tol) : std::string());
     return v;
   }
-  if (!(energy_error <= energy_tolerance + kNoiseMargin * energy_ratio_sigma)) {
+  // The margin of the same two-sided false-alarm rate as kNoiseMargin σ of a
+  // normal, for an energy σ estimated with energy_dof degrees of freedom.
+  const double margin = energy_dof == 0 ? kNoiseMargin
+                                        : student_t_quantile(0.5 + std::erf(kNoiseMargin / std::sqrt(2.0)) / 2.0,
+                                                             energy_dof);
+  if (!(energy_error <= energy_tolerance + margin * energy_ratio_sigma)) {
     v.reason = "energy ratio " + fmt(energy_ratio) + " off by more than " + fmt(energy_tolerance) + " + " +
-               fmt(kNoiseMargin) + " sigma (" + fmt(energy_ratio_sigma) + ")";
+               fmt(margin) + " sigma (" + fmt(energy_ratio_sigma) +
+               (energy_dof ? ", " + std::to_string(energy_dof) + " degrees of freedom)" : ")");
     return v;
   }
   // Then: is the noise small enough for a pass to mean anything?
@@ -196,6 +229,55 @@ ComparisonVerdict Comparison::judge(double noise_factor, double energy_tolerance
   }
   v.passed = true;
   return v;
+}
+
+Comparison compare_chains(const std::vector<Image>& chains, const Image& y_mean, const Image& y_half_a,
+                          const Image& y_half_b) {
+  if (chains.size() < 2) throw std::invalid_argument("compare_chains: fewer than 2 chains");
+  const std::size_t k = chains.size();
+  Image x(y_mean.width, y_mean.height);
+  for (const Image& c : chains) {
+    require_same_size(c, y_mean, "compare_chains");
+    for (std::size_t i = 0; i < x.size(); ++i) x.pixels[i] += c.pixels[i] / float(k);
+  }
+  // The two-chain case is exactly compare() with the chains as halves.
+  Comparison out = compare(x, chains[0], chains[1], y_mean, y_half_a, y_half_b);
+  if (k > 2) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      bool finite = finite3(y_mean.pixels[i]);
+      for (const Image& c : chains) finite = finite && finite3(c.pixels[i]);
+      if (!finite) continue;
+      for (int ch = 0; ch < 3; ++ch) {
+        double m = 0, s2 = 0;
+        for (const Image& c : chains) m += double(c.pixels[i][ch]) / double(k);
+        for (const Image& c : chains) s2 += (c.pixels[i][ch] - m) * (c.pixels[i][ch] - m) / double(k - 1);
+        const double r = y_mean.pixels[i][ch];
+        sum += s2 / double(k) / (r * r + kRelmseEpsilon);
+      }
+      n += 3;
+    }
+    out.noise_x = n ? sum / double(n) : 0.0;
+    out.combined_noise = out.noise_x + out.noise_y;
+    out.relmse_over_noise = out.combined_noise > 0 ? out.relmse / out.combined_noise
+                                                   : (out.relmse > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    out.bias_relmse = std::max(0.0, out.relmse - out.combined_noise);
+  }
+  // Energy: the chains' mean luminances are K independent draws.
+  double m = 0, s2 = 0;
+  std::vector<double> l;
+  for (const Image& c : chains) l.push_back(mean_luminance(c));
+  for (double v : l) m += v / double(k);
+  for (double v : l) s2 += (v - m) * (v - m) / double(k - 1);
+  const double lx = mean_luminance(x), ly = mean_luminance(y_mean);
+  const double sx = std::sqrt(s2 / double(k)), sy = mean_luminance_sigma(y_half_a, y_half_b);
+  double rel2 = 0;
+  if (lx > 0) rel2 += (sx / lx) * (sx / lx);
+  if (ly > 0) rel2 += (sy / ly) * (sy / ly);
+  out.energy_ratio_sigma = std::isfinite(out.energy_ratio) ? out.energy_ratio * std::sqrt(rel2) : 0.0;
+  out.energy_dof = std::uint32_t(k - 1);
+  return out;
 }
 
 }  // namespace gi

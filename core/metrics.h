@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/image.h"
 
@@ -43,6 +44,10 @@ double chain_noise(const Image& chain_a, const Image& chain_b, const Image& deno
 // treating pixels as independent: sqrt(Σ_p (lum a_p − lum b_p)² / 4) / P.
 double mean_luminance_sigma(const Image& half_a, const Image& half_b);
 
+// The p-quantile of Student's t distribution with `dof` degrees of freedom
+// (dof ≥ 1; 0 means infinite: the standard normal's). Numerical, deterministic.
+double student_t_quantile(double p, std::uint32_t dof);
+
 struct ComparisonVerdict {
   bool passed = false;
   // True when the estimators' own noise is not well below a tolerance being
@@ -68,6 +73,12 @@ struct Comparison {
   double mean_rel_error = 0;
   double energy_ratio = 0;       // mean lum(x) / mean lum(y)
   double energy_ratio_sigma = 0; // 1σ of energy_ratio from both images' noise
+  // Degrees of freedom of energy_ratio_sigma: 0 when it is summed over
+  // pixels taken as independent (many), K − 1 when it comes from the spread of
+  // K independent chains' image means (compare_chains). The energy verdict's
+  // margin is the t quantile of the same false-alarm rate as kNoiseMargin σ
+  // of a normal (two-sided 0.27 %).
+  std::uint32_t energy_dof = 0;
   double max_luminance_ratio = 0;
   std::uint64_t nonfinite_x = 0, nonfinite_y = 0;  // in the mean images
 
@@ -88,6 +99,15 @@ struct Comparison {
     return judge(noise_factor, energy_tolerance).inconclusive;
   }
 };
+
+// x given as K ≥ 2 independent chains' images (x = their mean): x's noise
+// per pixel from the chains' sample variance / K (for K = 2 it is
+// estimator_noise), and its energy σ from the spread of the chains' mean
+// luminances / √K, with K − 1 degrees of freedom: a chain's error that is
+// shared by all its pixels (a world cache's cell placement, a light tile) is
+// in it, where a sum over pixels taken as independent misses it.
+Comparison compare_chains(const std::vector<Image>& chains, const Image& y_mean, const Image& y_half_a,
+                          const Image& y_half_b);
 
 // Sizes must match (throws std::invalid_argument otherwise).
 Comparison compare(const Image& x_mean, const Image& x_half_a, const Image& x_half_b, const Image& y_mean,

@@ -72,7 +72,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     // Default ID space: each mesh's LOD-0 meshlets (set_cluster_ids replaces it).
     for (std::uint32_t m = 0; m < geometry.meshes.size(); ++m)
       mesh_clusters_.push_back(lod0_cluster_ids(geometry, m, 1u << cluster_layout_.triangle_bits));
-    gbuffer_resolve_.emplace(device, compiler);
+    gbuffer_resolve_.emplace(device, compiler, options_.motion_vectors);
   }
   if (options_.reference) {
     reference_a_ = Buffer(device, pixels * sizeof(glm::vec4), kStorage, "reference A");

@@ -62,6 +62,8 @@ struct RendererOptions {
   // NORMAL_MAP_DECODE_*, the profile's textures.normal_map_decode); the
   // reference path tracer always decodes them as glTF says.
   std::uint32_t normal_map_decode = 2;
+  // The G-buffer's motion vectors (the profile's temporal.motion_vectors).
+  MotionVectors motion_vectors = MotionVectors::previous_view;
 };
 
 class Renderer {

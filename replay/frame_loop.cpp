@@ -18,6 +18,10 @@
 #include "reports/summary.h"
 
 namespace gi {
+namespace {
+// A capture's sub-folder with chain c's pipeline (c ≥ 1, RunSetup::chains).
+std::string chain_folder(std::uint32_t c) { return fmt::format("chain_{}", c); }
+}  // namespace
 
 FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device)
     : scenario_(scenario), options_(options), setup_(setup), device_(device), compiler_(cache_root()),
@@ -30,10 +34,15 @@ FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSet
 
 void FrameLoop::build_renderer() {
   renderer_.reset();  // one pipeline's buffers at a time
+  other_chains_.clear();
   // On a CPU device every pass time is compared as a multiple of the
   // calibration kernel's (reports/timing_verdict.h); a GPU's are compared in ms.
   setup_.renderer_options.timing_calibration = device_.info().device_type == "cpu";
   renderer_ = std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, setup_.renderer_options);
+  gpu::RendererOptions other = setup_.renderer_options;
+  other.timing_calibration = false;  // their passes are not timed against anything
+  for (std::uint32_t c = 1; c < setup_.chains; ++c)
+    other_chains_.push_back(std::make_unique<gpu::Renderer>(device_, compiler_, geometry_, other));
   for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
   upload_scene();
 }
@@ -49,7 +58,7 @@ void FrameLoop::upload_scene() {
       if (scene_.instances[i].raytracing_mesh_removed && !scene_.instances[i].visible) kept.push_back(i);
   for (std::size_t i : kept) scene_.instances[i].visible = true;
   flat_ = flatten_instances(scene_, geometry_);
-  renderer_->update_scene(flat_, scene_.visible_instances());
+  each_pipeline([&](gpu::Renderer& r) { r.update_scene(flat_, scene_.visible_instances()); });
   for (std::size_t i : kept) scene_.instances[i].visible = false;
 }
 
@@ -70,6 +79,14 @@ void FrameLoop::resume() {
   geometry_ = flatten_geometry(scene_);
   build_renderer();
   restore_capture(capture, *renderer_);
+  for (std::uint32_t c = 1; c < setup_.chains; ++c) {
+    const std::filesystem::path dir = capture.dir / chain_folder(c);
+    if (!std::filesystem::exists(dir / "manifest.json"))
+      throw InputError(manifest, "/buffers",
+                       fmt::format("chain {}'s state in {} (this run has {} independent chains)", c, dir.string(),
+                                   setup_.chains));
+    restore_capture(read_capture(dir), *other_chains_[c - 1]);
+  }
   const nlohmann::json& loop = capture.manifest["loop"];
   if (loop.value("scene_hash", "") != scene_hash(flat_))
     spdlog::warn("{}: the scene re-derived at frame {} differs from the captured one (scenario or code changed?)",
@@ -99,21 +116,21 @@ void FrameLoop::apply_frame_events(std::uint32_t frame) {
   if (changes.geometry) check_resource_limits(scenario_, scene_, device_.largest_heap_bytes(), device_.limits().maxStorageBufferRange);
   if (changes.geometry && scene_.meshes.size() != geometry_.meshes.size()) {
     geometry_ = flatten_geometry(scene_);
-    renderer_->update_geometry(geometry_);
+    each_pipeline([&](gpu::Renderer& r) { r.update_geometry(geometry_); });
     for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
   }
   if (changes.any()) upload_scene();
   if (changes.any() && frame > 0) static_start_ = frame;
   const std::uint32_t warmup = setup_.warmup_frames;
   if ((changes.any() && frame > 0) || (warmup > 0 && frame == static_start_ + warmup)) {
-    renderer_->reset_accumulation();
+    each_pipeline([](gpu::Renderer& r) { r.reset_accumulation(); });
     window_samples_ = 0;
     window_start_ = frame;
   }
   // The temporal noise window: the second half of the run, restarted by any change.
   if (setup_.realtime && (frame == noise_start() || (changes.any() && frame > noise_start()))) {
     temporal_noise_.restart(frame);
-    renderer_->frame_output().restart_noise();
+    each_pipeline([](gpu::Renderer& r) { r.frame_output().restart_noise(); });
   }
 }
 
@@ -172,6 +189,7 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
   data.frame = frame;
   data.scene = &scene_;
   data.renderer = renderer_.get();
+  for (std::uint32_t c = 0; c < setup_.chains; ++c) data.chains.push_back(&chain_pipeline(c));
   data.window_start = t.window_start;
   data.window_samples = t.window_samples;
   output_read_ = false;
@@ -270,7 +288,7 @@ void FrameLoop::run() {
     apply_frame_events(frame);
     const GpuCamera camera = make_gpu_camera(scene_.camera, width, height);
     const bool noise_frame = setup_.realtime && frame >= noise_start();
-    if (setup_.realtime) renderer_->frame_output().set_accumulate_noise(noise_frame);
+    if (setup_.realtime) each_pipeline([&](gpu::Renderer& r) { r.frame_output().set_accumulate_noise(noise_frame); });
     if (noise_frame) temporal_noise_.count_frame();
     if (hash_log_ || frame + 1 == setup_.frames) {  // the state hashed at the end of the frame, in its submission
       gpu::StateList state;
@@ -278,8 +296,9 @@ void FrameLoop::run() {
       renderer_->hash_after_next_frame(state_ranges(state));
     }
     const CpuSchedule cpu_before = cpu_timed ? cpu_schedule_now() : CpuSchedule{};
-    renderer_->submit_frame(frame_constants(camera, frame == 0 ? camera : previous_camera_, flat_, width, height,
-                                            frame, setup_.seed, scenario_.samples_per_frame));
+    const GpuCamera previous = frame == 0 ? camera : previous_camera_;
+    renderer_->submit_frame(
+        frame_constants(camera, previous, flat_, width, height, frame, setup_.seed, scenario_.samples_per_frame));
     previous_camera_ = camera;
     window_samples_ += scenario_.samples_per_frame;
     if (deferred) {
@@ -288,6 +307,12 @@ void FrameLoop::run() {
       deferred.reset();
     }
     renderer_->finish_frame();
+    // The other chains after chain A (one submission in flight at a time);
+    // take() reads chain A's timings and results only.
+    for (std::uint32_t c = 1; c < setup_.chains; ++c)
+      other_chains_[c - 1]->render_frame(frame_constants(camera, previous, flat_, width, height, frame,
+                                                          independent_chain_seed(setup_.seed, c),
+                                                          scenario_.samples_per_frame));
     Taken t = take(frame, started, transfers_before);
     if (cpu_timed) t.cpu = cpu_schedule_between(cpu_before, cpu_schedule_now());
     if (can_defer(frame)) {
@@ -298,13 +323,12 @@ void FrameLoop::run() {
     }
   }
   if (setup_.realtime) {
-    noise_ = {{"chain", renderer_->di().settings().chains >= 2 ? chain_noise_figures(setup_.frames - 1)
-                                                                  : nlohmann::json(nullptr)}};
+    noise_ = {{"chain", setup_.chains >= 2 ? chain_noise_figures(setup_.frames - 1) : nlohmann::json(nullptr)}};
     noise_["temporal"] = {{"first_frame", temporal_noise_.first_frame()},
                           {"frames", temporal_noise_.frames()},
                           {"method", "per-pixel variance of chain A's signal over the frames of the window (the "
                                      "run's second half, restarted by scene changes) / (m^2 + 0.01), averaged; "
-                                     "includes the world cache's own fluctuation, which the chain figures cancel"},
+                                     "includes the world cache's own fluctuation"},
                           {"signals", temporal_noise_.figures(renderer_->frame_output().noise_sums())}};
   }
   if (hash_log_) {
@@ -317,18 +341,18 @@ void FrameLoop::run() {
 // (chain_noise), relative to the temporal mean of the whole output, so the
 // signals' figures are on one scale.
 nlohmann::json FrameLoop::chain_noise_figures(std::uint32_t frame) const {
-  const gpu::Renderer& r = *renderer_;
-  Image mean = r.realtime_mean(0);
-  const Image mean_b = r.realtime_mean(1);
+  Image mean = chain_pipeline(0).realtime_mean(0);
+  const Image mean_b = chain_pipeline(1).realtime_mean(0);
   for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (mean.pixels[i] + mean_b.pixels[i]);
   // Each chain's signals, read back once.
   std::map<std::string, Image> a, b;
   for (auto [chain, out] : {std::pair{0u, &a}, std::pair{1u, &b}}) {
-    (*out)["di"] = r.di().frame(chain);
+    const gpu::Renderer& r = chain_pipeline(chain);
+    (*out)["di"] = r.di().frame(0);
     (*out)["output"] = (*out)["di"];
     if (setup_.gi) {
-      (*out)["gi"] = r.gi().gi_frame(chain);
-      (*out)["specular"] = r.gi().specular_frame(chain);
+      (*out)["gi"] = r.gi().gi_frame(0);
+      (*out)["specular"] = r.gi().specular_frame(0);
       (*out)["output"] = sum_images(sum_images((*out)["output"], (*out)["gi"]), (*out)["specular"]);
     }
   }
@@ -359,7 +383,7 @@ void FrameLoop::capture(std::uint32_t frame) {
   const gpu::Renderer& r = *renderer_;
   // Realtime: the halves are chains A and B of this frame (or A twice with one chain).
   const Image a = setup_.realtime ? r.realtime_frame(0) : r.reference_half(0);
-  const Image b = setup_.realtime ? r.realtime_frame(r.di().settings().chains - 1) : r.reference_half(1);
+  const Image b = setup_.realtime ? chain_pipeline(setup_.chains > 1 ? 1 : 0).realtime_frame(0) : r.reference_half(1);
   // Chain A's signals, read back for the capture only.
   read_output();
   const Image di = setup_.realtime ? r.di().frame(0) : Image();
@@ -401,6 +425,13 @@ void FrameLoop::capture(std::uint32_t frame) {
         {"checks", check_states},
         {"scene_hash", scene_hash(flat_)}}}};
   write_capture(o.out_dir / capture_folder(frame), manifest, *renderer_, exr, output_);
+  // The other chains' pipeline state, so a replay's checks see every chain as the run did.
+  for (std::uint32_t c = 1; c < setup_.chains; ++c) {
+    manifest["seed"] = independent_chain_seed(setup_.seed, c);
+    const Image image = other_chains_[c - 1]->realtime_frame(0);
+    write_capture(o.out_dir / capture_folder(frame) / chain_folder(c), manifest, *other_chains_[c - 1],
+                  {{"", &image}}, image);
+  }
   captured_frames_.push_back(frame);
 }
 

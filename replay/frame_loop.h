@@ -35,6 +35,10 @@ class FrameLoop {
   std::uint32_t first_frame() const { return first_frame_; }
   const Image& last_output() const { return output_; }  // after run(): the last frame's
   const gpu::Renderer& renderer() const { return *renderer_; }
+  // Chain c's pipeline (0: renderer(); RunSetup::chains of them).
+  const gpu::Renderer& chain_pipeline(std::uint32_t chain) const {
+    return chain == 0 ? *renderer_ : *other_chains_.at(chain - 1);
+  }
   gpu::ShaderCompiler& compiler() { return compiler_; }
   std::size_t light_count() const { return flat_.lights.size(); }
   FrameLog& frame_log() { return frame_log_; }
@@ -54,6 +58,13 @@ class FrameLoop {
  private:
   void build_renderer();  // the renderer for geometry_, the checks prepared, scene_'s instances uploaded
   void upload_scene();    // flat_ from scene_ as the profile's renderer sees it, uploaded
+  // Both pipelines (chain B's when it runs): what every frame's events do to them.
+  template <typename F>
+  void each_pipeline(F&& f) {
+    f(*renderer_);
+    for (auto& chain : other_chains_) f(*chain);
+  }
+
   void resume();
   void apply_frame_events(std::uint32_t frame);
   // One frame's results the record and the checks read, taken right after
@@ -95,6 +106,10 @@ class FrameLoop {
   FlatGeometry geometry_;
   FlatInstances flat_;
   std::unique_ptr<gpu::Renderer> renderer_;
+  // Chains 1 .. RunSetup::chains-1: pipelines of their own at
+  // independent_chain_seed, fed the same scene and events; only the checks'
+  // chain images, the chain noise figures and captures read them.
+  std::vector<std::unique_ptr<gpu::Renderer>> other_chains_;
 
   // The accumulation window (reference mode; realtime temporal means).
   std::uint64_t window_samples_ = 0;

@@ -61,13 +61,14 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     checks.push_back(make_check(context));
     needs.push_back(checks.back()->needs());
   }
-  bool gbuffer = false, two_chains = scenario.noise, root_frame = false, temporal_edges = false,
+  std::uint32_t wanted_chains = scenario.noise ? 2u : 1u;
+  bool gbuffer = false, root_frame = false, temporal_edges = false,
        path_counters = false;
   for (const CheckNeeds& n : needs) {
     captures.insert(n.captures.begin(), n.captures.end());
     record_hashes = record_hashes || n.record_hashes;
     gbuffer = gbuffer || n.gbuffer;
-    two_chains = two_chains || n.two_chains;
+    wanted_chains = std::max(wanted_chains, n.chains);
     root_frame = root_frame || n.cache_root_frame;
     temporal_edges = temporal_edges || n.gi_temporal_edges;
     path_counters = path_counters || n.gi_path_counters;
@@ -85,15 +86,19 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   r.reference = !realtime;
   r.reference_options.background = initial.background;
   r.frame_output = true;
-  const std::uint32_t chains = two_chains ? 2u : 1u;
+  // One chain per pipeline: the second chain is a pipeline of its own.
+  chains = realtime ? wanted_chains : 1u;
+  const std::uint32_t chains_per_pipeline = 1u;
   if (realtime) {
-    r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains,
+    r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains_per_pipeline,
                                     gi && profile.flag("specular.enabled"));
     r.di->background = initial.background;
     r.normal_map_decode = normal_map_decode_from_profile(profile);
+    r.motion_vectors = profile.text("temporal.motion_vectors") == "ignored" ? gpu::MotionVectors::ignored
+                                                                             : gpu::MotionVectors::previous_view;
   }
   if (gi) {
-    r.gi = gi_settings_from_profile(profile, chains);
+    r.gi = gi_settings_from_profile(profile, chains_per_pipeline);
     r.gi->temporal_edge_stats = temporal_edges;  // compiled in only for a check that reads it
     r.gi->path_counters = path_counters;
   }
@@ -104,6 +109,15 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     cache.root_frame = root_frame;  // instrumentation compiled in only for a check that reads it
     r.world_cache = cache;
   }
+}
+
+std::uint32_t independent_chain_seed(std::uint32_t seed, std::uint32_t chain) {
+  // splitmix64's finaliser over the seed, the chain and a salt of this rule's own ("CH").
+  std::uint64_t z = (std::uint64_t(seed) << 32 | (0x4348u << 16) | (chain & 0xFFFFu)) + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return std::uint32_t(z ^ (z >> 32));
 }
 
 }  // namespace gi

@@ -37,11 +37,22 @@ struct RunSetup {
   std::set<std::uint32_t> captures;  // the scenario's, --capture's and the checks'
   nlohmann::json skipped_captures = nlohmann::json::array();  // the scenario's, past a --frames run
   bool record_hashes = false;
-  gpu::RendererOptions renderer_options;
+  // Realtime chains for the checks' noise estimates (the most any check asks
+  // for; 2 with "noise"): chain A is the run's pipeline, each other chain a
+  // pipeline of its own at independent_chain_seed(seed, chain), so the chains
+  // share nothing (not the world cache, not the light tiles, not a
+  // permutation) and their spread sees every source of variance the seed brings.
+  std::uint32_t chains = 1;
+  gpu::RendererOptions renderer_options;  // one chain's pipeline
   // In the scenario's order; needs[i] is checks[i]'s declaration.
   std::vector<std::unique_ptr<Check>> checks;
   std::vector<CheckNeeds> needs;
   std::uint32_t warmup_frames = 0;  // the largest any check asks for
 };
+
+// Chain k's seed (k ≥ 1; chain 0 runs at the run's seed): a mix of the run's
+// seed and k with a constant of this rule's own, so it is not the seed another
+// run of the scenario would use (seed sets derive theirs with another rule).
+std::uint32_t independent_chain_seed(std::uint32_t seed, std::uint32_t chain);
 
 }  // namespace gi

@@ -67,6 +67,7 @@ namespace {
 nlohmann::json per_signal_figures(const RunFacts& run, const nlohmann::json& s, const Scene& scene,
                                   const ReferenceOptions& options, const ReferenceResult& reference) {
   const gpu::Renderer& r = run.loop.renderer();
+  const gpu::Renderer& b = run.loop.chain_pipeline(1);  // a check with two chains made this run's summary ask
   const nlohmann::json noise = s.value("noise", nlohmann::json::object());
   const nlohmann::json ms = signal_ms(s["timings"], s["resolved"].value("chains", 1u));
   auto noise_of = [&](const char* kind, const std::string& signal) {
@@ -88,12 +89,12 @@ nlohmann::json per_signal_figures(const RunFacts& run, const nlohmann::json& s, 
   direct_options.direct_only = true;
   const ReferenceResult direct =
       options.direct_only ? reference : cached_reference(scene, direct_options, cache_root() / "reference");
-  const ChainMeans di{r.di().mean(0), r.di().mean(1)};
+  const ChainMeans di{r.di().mean(0), b.di().mean(0)};
   out["di"]["bias"] = signal_bias(di, direct.mean, direct.half_a, direct.half_b);
   if (run.setup.gi) {
     const ReferenceResult indirect = indirect_reference(reference, direct);
     ChainMeans both{sum_images(r.gi().gi_mean(0), r.gi().specular_mean(0)),
-                    sum_images(r.gi().gi_mean(1), r.gi().specular_mean(1))};
+                    sum_images(b.gi().gi_mean(0), b.gi().specular_mean(0))};
     out["indirect"] = {{"signals", {"gi", "specular"}},
                        {"bias", signal_bias(both, indirect.mean, indirect.half_a, indirect.half_b)},
                        {"reference", "Embree full minus Embree direct, halves minus halves"}};
@@ -156,6 +157,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
                    {"profile_values", setup.profile.to_json()},
                    {"samples_per_frame", scenario.samples_per_frame},
                    {"chains", setup.renderer_options.di ? setup.renderer_options.di->chains : 0u},
+                   {"independent_chains", setup.chains},
                    {"backend", gpu::backend_name(run.device.backend())}};
   s["scene"] = {{"name", setup.initial.name},
                 {"instances", setup.initial.instances.size()},

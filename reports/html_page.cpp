@@ -95,6 +95,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .verdict.pass, .verdict.improved, .verdict.caught { background: #d7f5d7; color: #135e13; }
 .verdict.fail, .verdict.regressed, .verdict.missed, .verdict.missing, .verdict.error, .verdict.bad-input, .verdict.crashed,
 .verdict.timeout, .verdict.device-error { background: #fbd5d5; color: #8a1010; }
+.verdict.flaky { background: #ffd9b3; color: #7a3b00; }
 .verdict.inconclusive, .verdict.not-run, .verdict.interrupted, .verdict.no-baseline { background: #fff0c2; color: #6b5200; }
 .verdict.unchanged { background: #e4ecf7; color: #22406b; }
 .verdict.changed { background: #f3dcf7; color: #6a1b7a; }

@@ -1,6 +1,10 @@
 #include "reports/junit.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
+
+#include "reports/seed_verdicts.h"
 
 namespace gi {
 namespace {
@@ -111,19 +115,42 @@ std::string junit_xml(const nlohmann::json& suite) {
         if (n == check) return true;
       return false;
     };
+    // Seeds as a dimension (reports/seed_verdicts.h): the check's verdict at
+    // each seed; "message" and "limits" are seed 0's.
+    const nlohmann::json seed_values = row.value("seeds", nlohmann::json::object()).value("values", nlohmann::json::array());
     for (const nlohmann::json& c : checks) {
       Case k{scenario, c.value("name", "?"), "", "", "", "", seconds / double(checks.size() + 1), {}};
-      const bool failed = c.value("verdict", "fail") != "pass";
+      const bool seeded = c.contains("seed_verdicts") && c["seed_verdicts"].is_array() && seed_values.is_array();
+      std::vector<std::string> verdicts;
+      std::string per_seed;
+      if (seeded) {
+        verdicts = c["seed_verdicts"].get<std::vector<std::string>>();
+        per_seed = seed_verdict_list(seed_values.get<std::vector<std::uint32_t>>(), verdicts, verdicts.size());
+        k.properties.push_back({"seed_status", c.value("seed_status", "")});
+        k.properties.push_back({"seed_verdicts", per_seed});
+      }
+      const std::size_t passed_at = std::count(verdicts.begin(), verdicts.end(), std::string("pass"));
+      const bool failed = seeded ? c.value("seed_status", "fail") != "pass" : c.value("verdict", "fail") != "pass";
       if (catches(k.name)) {
         k.properties.push_back({"bug", bug.value("source", "")});
-        if (!failed) {
+        if (seeded && passed_at > 0) {
+          k.failure = fmt::format("missed bug {} at {} of {} seeds: {} passed ({})", bug.value("source", ""), passed_at,
+                                  verdicts.size(), k.name, per_seed);
+          k.failure_text = "the check should fail on this re-created bug at every seed: " + bug.value("symptom", "") + "\n";
+        } else if (!seeded && !failed) {
           k.failure = fmt::format("missed bug {}: {} passed ({})", bug.value("source", ""), k.name, c.value("message", ""));
           k.failure_text = "the check should fail on this re-created bug: " + bug.value("symptom", "") + "\n";
         }
       } else if (bug.is_object()) {
         k.properties.push_back({"verdict", c.value("verdict", "fail")});  // the bug's other checks only inform
+      } else if (failed && seeded && c.value("seed_status", "") == "flaky") {
+        k.failure = fmt::format("flaky: passed at {} of {} seeds: {}", passed_at, verdicts.size(), per_seed);
+        k.failure_text = "seed 0: " + c.value("verdict", "fail") + ": " + c.value("message", "") +
+                         "\nlimits: " + c.value("limits", nlohmann::json::object()).dump() + "\n";
       } else if (failed) {
-        k.failure = fmt::format("{}: {}", c.value("verdict", "fail"), c.value("message", ""));
+        k.failure = fmt::format("{}: {}", seeded ? c.value("seed_status", "fail") : c.value("verdict", "fail"),
+                                c.value("message", ""));
+        if (seeded) k.failure += " (" + per_seed + ")";
         k.failure_text = "limits: " + c.value("limits", nlohmann::json::object()).dump() + "\n";
       }
       const std::string prefix = "checks/" + k.name + "/";

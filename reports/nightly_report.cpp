@@ -244,10 +244,59 @@ std::string changed_list(const std::vector<nlohmann::json>& rows) {
                     table);
 }
 
+// Seeds as a dimension (nightly --seeds, reports/seed_verdicts.h): per
+// scenario and check its status over the seeds and the verdict at each seed
+// (flaky ones first); "" when no row ran at several seeds.
+std::string seeds_section(const nlohmann::json& suite, const std::vector<nlohmann::json>& rows) {
+  if (!suite.contains("seeds")) return "";
+  std::vector<std::vector<std::string>> flaky, rest;
+  for (const nlohmann::json& row : rows) {
+    if (!row.contains("seeds")) continue;
+    const std::string name = row.value("name", row.value("file", "?"));
+    const std::string link = "<a href=\"#" + anchor(name) + "\">" + html_escape(name) + "</a>";
+    const nlohmann::json& info = row["seeds"];
+    if (info.contains("skipped")) {
+      rest.push_back({link, "", html_verdict(row.value("verdict", "?")), "", html_escape(info["skipped"].get<std::string>())});
+      continue;
+    }
+    const nlohmann::json values = info.value("values", nlohmann::json::array());
+    for (const nlohmann::json& c : row.value("checks", nlohmann::json::array())) {
+      const nlohmann::json verdicts = c.value("seed_verdicts", nlohmann::json::array());
+      std::string cells;
+      std::size_t passed = 0;
+      for (std::size_t k = 0; k < verdicts.size(); ++k) {
+        const std::string v = verdicts[k].get<std::string>();
+        passed += v == "pass";
+        const std::string seed = k < values.size() ? values[k].dump() : "?";
+        // html_verdict's span, coloured by the verdict, named by the seed.
+        std::string span = html_verdict(v);
+        span.replace(span.find('>') + 1, html_escape(v).size(), html_escape(seed + ": " + v));
+        cells += span + " ";
+      }
+      const std::string status = c.value("seed_status", "?");
+      (status == "flaky" ? flaky : rest)
+          .push_back({link, html_escape(c.value("name", "?")), html_verdict(status),
+                      fmt::format("{} of {}", passed, verdicts.size()), "<div class=\"small\">" + cells + "</div>"});
+    }
+  }
+  if (flaky.empty() && rest.empty()) return "";
+  const nlohmann::json seeds = suite["seeds"];
+  std::string out = fmt::format("<h2>Seeds</h2>\n<p class=\"small\">each scenario at {} seeds ({}); {} flaky checks in {} "
+                                "scenarios (a check is flaky when it passes at some seeds and not at others: a "
+                                "failure). The baseline comparison and everything below a scenario's heading are "
+                                "seed 0's.</p>\n",
+                                html_figure(seeds.value("count", nlohmann::json())), html_escape(seeds.value("rule", "")),
+                                seeds.value("flaky_checks", nlohmann::json::array()).size(),
+                                html_figure(seeds.value("flaky_scenarios", 0)));
+  flaky.insert(flaky.end(), rest.begin(), rest.end());
+  return out + html_table({"scenario", "check", "over the seeds", "passed at", "verdict per seed"}, flaky, "seeds");
+}
+
 // The bug museum (Scenario::bug): catch rate, then each re-created bug,
 // missed ones first.
 std::string bug_museum(const nlohmann::json& bugs, const std::vector<nlohmann::json>& rows) {
   std::vector<std::vector<std::string>> table;
+  const bool seeded = bugs.contains("seed_runs");
   for (bool caught : {false, true})
     for (const nlohmann::json& row : rows) {
       if (!row.contains("bug") || row["bug"].value("caught", false) != caught) continue;
@@ -255,13 +304,24 @@ std::string bug_museum(const nlohmann::json& bugs, const std::vector<nlohmann::j
       std::string checks;
       for (const nlohmann::json& c : b.value("caught_by", nlohmann::json::array()))
         checks += (checks.empty() ? "" : ", ") + c.get<std::string>();
-      table.push_back({"<a href=\"#" + anchor(row.value("name", "?")) + "\">" + html_escape(row.value("name", "?")) + "</a>",
-                       html_escape(b.value("source", "")), html_escape(b.value("symptom", "")), html_escape(checks),
-                       html_verdict(caught ? "caught" : "missed")});
+      const nlohmann::json seeds = b.value("seeds", nlohmann::json());
+      const bool flaky = !caught && seeds.is_object() && seeds.value("caught", 0) > 0;
+      std::vector<std::string> cells = {
+          "<a href=\"#" + anchor(row.value("name", "?")) + "\">" + html_escape(row.value("name", "?")) + "</a>",
+          html_escape(b.value("source", "")), html_escape(b.value("symptom", "")), html_escape(checks),
+          html_verdict(caught ? "caught" : flaky ? "flaky" : "missed")};
+      if (seeded) cells.push_back(seeds.is_object() ? html_escape(seeds.value("text", "")) : "");
+      table.push_back(cells);
     }
-  return fmt::format("<h2>Bug museum</h2>\n<p>catch rate <b>{:.0f} %</b>: {} caught, {} missed</p>\n",
-                     100.0 * bugs.value("catch_rate", 0.0), bugs.value("caught", 0), bugs.value("missed", 0)) +
-         html_table({"scenario", "bug", "symptom", "caught by", ""}, table);
+  std::string head = fmt::format("<h2>Bug museum</h2>\n<p>catch rate <b>{:.0f} %</b>: {} caught, {} missed",
+                                 100.0 * bugs.value("catch_rate", 0.0), bugs.value("caught", 0), bugs.value("missed", 0));
+  if (seeded)
+    head += fmt::format(", {} flaky (caught at some seeds only); over all seed runs {:.0f} % ({} of {})",
+                        bugs.value("flaky", 0), 100.0 * bugs.value("seed_catch_rate", 0.0),
+                        bugs.value("seed_runs_caught", 0), bugs.value("seed_runs", 0));
+  std::vector<std::string> header = {"scenario", "bug", "symptom", "caught by", ""};
+  if (seeded) header.push_back("over the seeds");
+  return head + "</p>\n" + html_table(header, table);
 }
 
 }  // namespace
@@ -349,6 +409,7 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   if (suite.contains("bugs")) body += bug_museum(suite["bugs"], rows);
   body += "<h2>Overview</h2>\n" +
           html_table({"scenario", "verdict", "checks", "regressions", "bits", "GPU ms/frame", "wall s"}, overview);
+  body += seeds_section(suite, rows);
   body += "<h2>Figures against the baseline's tolerances</h2>\n";
   body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
                                   : html_table(kRegressionHeader, all_regressions, "regressions");
@@ -382,6 +443,16 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
     body += "<p class=\"small\">" + html_escape(p.summary["scenario"].value("file", "")) + " &mdash; " +
             html_escape(settings) + " &mdash; <a href=\"" + html_escape(p.row["summary"].get<std::string>()) +
             "\">summary.json</a></p>\n";
+    if (p.row.contains("seeds") && p.row["seeds"].contains("runs")) {
+      std::string links;
+      for (const nlohmann::json& r : p.row["seeds"]["runs"])
+        links += (links.empty() ? "" : ", ") +
+                 (r.contains("summary") ? "<a href=\"" + html_escape(r["summary"].get<std::string>()) + "\">seed " +
+                                              html_escape(r.value("seed", nlohmann::json()).dump()) + "</a>"
+                                        : "seed " + html_escape(r.value("seed", nlohmann::json()).dump())) +
+                 " " + html_verdict(r.value("verdict", "?"));
+      body += "<p class=\"small\">seed 0's run below; at each seed: " + links + "</p>\n";
+    }
     body += "<h3>Checks</h3>\n" + checks_table(p.summary);
     const nlohmann::json deltas = p.row.value("regressions", nlohmann::json::array());
     if (!deltas.empty()) body += "<h3>Figures outside the baseline's tolerances</h3>\n" + html_table(kRegressionHeader, regression_rows(name, deltas));

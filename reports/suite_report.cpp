@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "reports/junit.h"
 #include "reports/nightly_report.h"
+#include "reports/seed_verdicts.h"
 #include "reports/timing_report.h"
 
 namespace gi {
@@ -35,13 +36,38 @@ int finish_suite(const std::filesystem::path& out_dir, nlohmann::json& suite, co
     }
   suite["changes"] = changes;
   // The bug museum's tally (Scenario::bug): present when any scenario re-creates a bug.
-  int caught = 0, missed = 0;
+  // With --seeds (reports/seed_verdicts.h) a bug is caught when caught at
+  // every seed, flaky when at some; the rate over all its seed runs beside.
+  int caught = 0, missed = 0, flaky = 0, seed_runs = 0, seed_runs_caught = 0;
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
-    if (row.contains("bug")) (row["bug"].value("caught", false) ? caught : missed) += 1;
-  if (caught + missed > 0)
-    suite["bugs"] = {{"caught", caught}, {"missed", missed}, {"catch_rate", double(caught) / double(caught + missed)}};
-  else
+    if (row.contains("bug")) {
+      const nlohmann::json seeds = row["bug"].value("seeds", nlohmann::json());
+      if (seeds.is_object()) {
+        seed_runs += seeds.value("count", 0);
+        seed_runs_caught += seeds.value("caught", 0);
+      }
+      if (row["bug"].value("caught", false)) ++caught;
+      else if (seeds.is_object() && seeds.value("caught", 0) > 0) ++flaky;
+      else ++missed;
+    }
+  if (caught + missed + flaky > 0) {
+    suite["bugs"] = {{"caught", caught}, {"missed", missed},
+                     {"catch_rate", double(caught) / double(caught + missed + flaky)}};
+    if (seed_runs > 0) {
+      suite["bugs"]["flaky"] = flaky;
+      suite["bugs"]["seed_runs"] = seed_runs;
+      suite["bugs"]["seed_runs_caught"] = seed_runs_caught;
+      suite["bugs"]["seed_catch_rate"] = double(seed_runs_caught) / double(seed_runs);
+    }
+  } else {
     suite.erase("bugs");
+  }
+  // Seeds as a dimension: the flaky checks of the night.
+  const nlohmann::json seed_checks = seed_tally(suite);
+  if (!seed_checks.is_null()) {
+    if (!suite.contains("seeds") || !suite["seeds"].is_object()) suite["seeds"] = nlohmann::json::object();
+    suite["seeds"].update(seed_checks);
+  }
   const int correctness = code & ~kTimingExitBit;
   suite["verdict"] = suite.value("interrupted", false) ? "interrupted"
                      : code == kTimingExitBit          ? "timing_regressed"

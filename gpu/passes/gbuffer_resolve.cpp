@@ -11,19 +11,22 @@ using namespace gi::shader;
 
 namespace {
 
-ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
+ComputePass make_pass(Device& device, ShaderCompiler& compiler, MotionVectors motion) {
   std::vector<DescriptorBinding> bindings = scene_descriptor_bindings();
   bindings.push_back({BINDING_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_GBUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_CLUSTER_TABLE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
-  return ComputePass(device, "gbuffer_resolve", compiler.compile_file(GBufferResolve::kShader).spirv,
+  std::vector<ShaderDefine> defines;
+  if (motion == MotionVectors::ignored) defines.push_back({"GBUFFER_MOTION_IGNORED", ""});
+  return ComputePass(device, "gbuffer_resolve", compiler.compile_file(GBufferResolve::kShader, defines).spirv,
                      std::move(bindings));
 }
 
 }  // namespace
 
-GBufferResolve::GBufferResolve(Device& device, ShaderCompiler& compiler) : pass_(make_pass(device, compiler)) {}
+GBufferResolve::GBufferResolve(Device& device, ShaderCompiler& compiler, MotionVectors motion)
+    : pass_(make_pass(device, compiler, motion)) {}
 
 void GBufferResolve::bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth,
                           const Buffer& gbuffer, const Buffer& cluster_table) {

@@ -15,11 +15,15 @@ static_assert(sizeof(GBufferTexel) == 96, "GBufferTexel must stay whole vec4s (s
 class Buffer;
 class ShaderCompiler;
 
+// The profile's temporal.motion_vectors: the previous view's projection (as
+// Bevy's prepass), or none (a reprojection bug: history read at the pixel).
+enum class MotionVectors { previous_view, ignored };
+
 class GBufferResolve {
  public:
   static constexpr const char* kShader = "gpu/shaders/gbuffer_resolve.comp";
 
-  GBufferResolve(Device& device, ShaderCompiler& compiler);
+  GBufferResolve(Device& device, ShaderCompiler& compiler, MotionVectors motion = MotionVectors::previous_view);
   // visibility/depth/cluster_table as PrimaryVisibility uses them; gbuffer: GBufferTexel per pixel.
   void bind(const SceneResources& scene, const Buffer& visibility, const Buffer& depth, const Buffer& gbuffer,
             const Buffer& cluster_table);

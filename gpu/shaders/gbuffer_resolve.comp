@@ -9,7 +9,8 @@
 //
 // Motion vectors project the point with previous_camera only: instance
 // motion (last frame's transforms) is ignored for now, so moving objects get
-// the camera's motion alone.
+// the camera's motion alone. GBUFFER_MOTION_IGNORED (temporal.motion_vectors
+// ignored) zeroes them, keeping them valid: a reprojection bug on purpose.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Bevy rasterises its G-buffer with bevy_pbr, which decodes normal maps as
@@ -101,6 +102,9 @@ void main() {
     vec2 previous;
     bool valid = camera_project(frame.previous_camera, s.position, resolution, previous);
     vec2 motion = valid ? previous - (vec2(pixel) + vec2(0.5)) : vec2(0.0);
+#ifdef GBUFFER_MOTION_IGNORED
+    motion = vec2(0.0);  // the profile's temporal.motion_vectors ignored: a reprojection bug
+#endif
     g.motion_reflectance = vec4(motion, valid ? 1.0 : 0.0, m.reflectance.x);
   }
   gbuffer[index] = g;

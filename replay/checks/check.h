@@ -79,6 +79,7 @@ enum class FrameInput {
   light_tiles,         // this frame's light-tile samples, chain A (readback: judged frames only)
   cluster_visibility,  // packed visibility IDs and the cluster table
   chains,              // realtime chains A and B: this frame and the window's temporal mean
+  gbuffer_layers,      // a layer of chain A's G-buffer (depth, motion, ...; full readback: judged frames only)
   reference_halves,    // the reference mode's two half-sample means
   nonfinite_samples,   // the reference mode's non-finite samples since the window began
   // The radiance-cascades pipeline (replay/rc_run.h):
@@ -91,7 +92,9 @@ struct CheckNeeds {
   // The frames observe() is called on; none: every frame.
   std::optional<std::set<std::uint32_t>> frames = {};
   bool gbuffer = false;           // the G-buffer (cluster IDs, instance channel)
-  bool two_chains = false;        // a second independent realtime chain
+  // Independent realtime chains the check reads (1: chain A alone); each
+  // chain is a pipeline of its own (RunSetup::chains).
+  std::uint32_t chains = 1;
   bool cache_root_frame = false;  // the world cache's root-frame instrumentation
   bool gi_temporal_edges = false; // ReSTIR GI's temporal-reuse counts at edge pixels (GiFrameStats)
   bool gi_path_counters = false;  // glossy-path rays and spatial-search outcomes (GiFrameStats::counters)
@@ -106,6 +109,8 @@ struct FrameData {
   std::uint32_t frame = 0;
   const Scene* scene = nullptr;
   gpu::Renderer* renderer = nullptr;
+  // Every chain's pipeline, chain A's (`renderer`) first (RunSetup::chains).
+  std::vector<const gpu::Renderer*> chains;
   std::uint32_t window_start = 0;    // first frame of the accumulation window
   std::uint64_t window_samples = 0;  // samples per pixel accumulated in it
   // The output image: `output` where the caller has it, else read_output
@@ -149,12 +154,16 @@ class FrameView {
   std::vector<std::array<std::uint32_t, 4>> light_tile_samples(std::uint32_t& samples_per_tile) const;
   std::vector<glm::uvec2> packed_visibility() const;
   const std::vector<std::uint32_t>& cluster_table() const;
-  // Realtime: DI, plus GI and specular when they run, of chain 0 or 1.
+  // Realtime: DI, plus GI and specular when they run, of chain 0 .. chain_count()-1
+  // (pipelines that share no state, RunSetup::chains).
+  std::uint32_t chain_count() const;
   Image chain_frame(std::uint32_t chain) const;
   Image chain_mean(std::uint32_t chain) const;
   std::uint32_t chain_window_frames() const;  // frames in chain A's temporal mean
   bool full_gi() const;                       // the chains' images include GI and specular
   Image reference_half(int which) const;
+  // A G-buffer layer by name (gpu::Renderer::gbuffer_layer_names()).
+  Image gbuffer_layer(const std::string& name) const;
   std::uint64_t nonfinite_samples() const;
   // Radiance cascades: the canvas at this frame, the settings, the reference.
   const Canvas& rc_canvas() const;
@@ -163,6 +172,7 @@ class FrameView {
 
  private:
   void require(FrameInput input, const char* what) const;
+  const gpu::Renderer& chain_pipeline(std::uint32_t chain) const;
   const FrameData& data_;
   const std::set<FrameInput>& allowed_;
 };

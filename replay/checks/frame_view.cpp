@@ -74,17 +74,31 @@ const std::vector<std::uint32_t>& FrameView::cluster_table() const {
 
 bool FrameView::full_gi() const { return data_.renderer->has_gi(); }
 
+std::uint32_t FrameView::chain_count() const {
+  require(FrameInput::chains, "the chain count");
+  return std::uint32_t(data_.chains.size());
+}
+const gpu::Renderer& FrameView::chain_pipeline(std::uint32_t chain) const {
+  if (chain >= data_.chains.size())
+    throw std::logic_error(fmt::format("a check read chain {} of a run with {} (CheckNeeds::chains)", chain,
+                                       data_.chains.size()));
+  return *data_.chains[chain];
+}
 Image FrameView::chain_frame(std::uint32_t chain) const {
   require(FrameInput::chains, "a chain's frame");
-  return data_.renderer->realtime_frame(chain);
+  return chain_pipeline(chain).realtime_frame(0);
 }
 Image FrameView::chain_mean(std::uint32_t chain) const {
   require(FrameInput::chains, "a chain's temporal mean");
-  return data_.renderer->realtime_mean(chain);
+  return chain_pipeline(chain).realtime_mean(0);
 }
 std::uint32_t FrameView::chain_window_frames() const {
   require(FrameInput::chains, "the chains' window");
   return data_.renderer->di().accumulated_frames(0);
+}
+Image FrameView::gbuffer_layer(const std::string& name) const {
+  require(FrameInput::gbuffer_layers, "a G-buffer layer");
+  return data_.renderer->gbuffer_layer(name);
 }
 Image FrameView::reference_half(int which) const {
   require(FrameInput::reference_halves, "a reference half");

@@ -84,7 +84,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
   CheckNeeds needs() const override {
     return {.reads = {FrameInput::chains},
             .frames = std::set<std::uint32_t>(params_.frames.begin(), params_.frames.end()),
-            .two_chains = true,
+            .chains = 2,
             .warmup_frames = params_.warmup_frames};
   }
 

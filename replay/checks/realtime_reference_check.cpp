@@ -60,29 +60,40 @@ double edge_region_relmse(const Image& x, const Image& y) {
 }
 
 void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& scene, const RealtimeEstimate& gpu) {
-  const Reference ref = reference(scene, gpu.frame_a.width, gpu.frame_a.height, !gpu.full_gi);
+  const Reference ref = reference(scene, gpu.frames[0].width, gpu.frames[0].height, !gpu.full_gi);
   FrameComparison f;
   f.frame = frame;
   f.window_start = gpu.window_start;
   f.window_frames = gpu.window_frames;
   f.full_gi = gpu.full_gi;
-  const Image mean = chain_average(gpu.mean_a, gpu.mean_b);
-  f.temporal = compare(mean, gpu.mean_a, gpu.mean_b, ref.mean, ref.half_a, ref.half_b);
-  f.per_frame = single_chain(gpu.frame_a, gpu.frame_b, ref);
+  f.chains = std::uint32_t(gpu.means.size());
+  const Comparison chains = compare_chains(gpu.means, ref.mean, ref.half_a, ref.half_b);
+  Image mean = gpu.means[0];
+  for (std::size_t i = 0; i < mean.size(); ++i) {
+    mean.pixels[i] = glm::vec3(0.0f);
+    for (const Image& m : gpu.means) mean.pixels[i] += m.pixels[i] / float(gpu.means.size());
+  }
+  // Two chains: the energy σ summed over pixels (many degrees of freedom, no
+  // image-wide error); more: the chains' own spread.
+  f.temporal = f.chains >= 3 ? chains : compare(mean, gpu.means[0], gpu.means[1], ref.mean, ref.half_a, ref.half_b);
+  f.energy_ratio_sigma_chains = chains.energy_ratio_sigma;
+  f.per_frame = single_chain(gpu.frames[0], gpu.frames[1], ref);
   f.verdict = f.temporal.judge(params_.relmse_noise_factor, params_.energy_tolerance, params_.relmse_tolerance);
   f.temporal_edge_relmse = edge_region_relmse(mean, ref.mean);
   f.reference_seconds = ref.seconds;
   f.reference_cached = ref.cached;
   f.evidence = fmt::format("reference/frame_{:05}.exr", frame);
   write_exr(out_dir_ / f.evidence,
-            {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frame_a}, {gpu.full_gi ? "embree_full_gi" : "embree_di", &ref.mean}});
+            {{"gpu_temporal_mean", &mean}, {"gpu_frame", &gpu.frames[0]}, {gpu.full_gi ? "embree_full_gi" : "embree_di", &ref.mean}});
   frames_.push_back(std::move(f));
 }
 
 CheckResult RealtimeReferenceCheck::result() const {
   CheckResult r = start_result();
   r.limits["warmup_frames"] = params_.warmup_frames;
-  r.limits["judged_on"] = "temporal mean over the static window (two independent chains as halves)";
+  r.limits["judged_on"] = fmt::format("temporal mean over the static window of {} independent chains", params_.chains);
+  r.limits["chains"] = params_.chains;
+  r.limits["false_alarm_rate"] = "energy: two-sided 0.27 % (3 sigma of a normal; Student's t with K - 1 degrees of freedom for K >= 3 chains)";
   if (frames_.empty()) return r;
   Tally tally;
   nlohmann::json list = nlohmann::json::array();
@@ -92,6 +103,9 @@ CheckResult RealtimeReferenceCheck::result() const {
                     {"window_frames", f.window_frames},
                     {"temporal_mean", comparison_json(f.temporal)},
                     {"temporal_mean_edge_region_relmse", json_figure(f.temporal_edge_relmse)},
+                    {"chains", f.chains},
+                    {"energy_ratio_sigma_chains", json_figure(f.energy_ratio_sigma_chains)},
+                    {"energy_dof", f.temporal.energy_dof},
                     {"per_frame", comparison_json(f.per_frame)},
                     {"reference_seconds", json_figure(f.reference_seconds)},
                     {"reference_cached", f.reference_cached},

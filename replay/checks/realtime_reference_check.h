@@ -5,12 +5,22 @@
 // static window that frame ends.
 //
 // Noise honesty: temporal reuse correlates a chain's frames, so halves made of
-// even and odd frames would understate the noise. The renderer runs two
-// independent DI chains instead (own light tiles, reservoirs, random streams);
-// their temporal means are two independent halves, and their difference
-// estimates the noise of their average (metrics.h estimator_noise). The
-// per-frame figures are for chain A alone, whose noise is twice that of the
-// two-chain average (Var(A) = E[(A − B)²] / 2).
+// even and odd frames would understate the noise. The run renders K ≥ 2
+// independent chains instead, each a pipeline of its own (own light tiles,
+// reservoirs, world cache, random streams); their temporal means are K
+// independent estimates, and their spread estimates the noise of their
+// average (metrics.h compare_chains). Chains inside one pipeline shared its
+// world cache, whose cell placement freezes a seed-dependent error for the
+// whole run: that error was in neither chain's difference (README "Error
+// bars"). The per-frame figures are for chain A alone, whose noise is twice
+// that of a two-chain average (Var(A) = E[(A − B)²] / 2).
+//
+// Statistical model of the verdict (metrics.h Comparison::judge): relMSE of
+// the chains' mean against the reference ≤ relmse_noise_factor × (its
+// expected value from noise) + relmse_tolerance (the pipeline's known bias);
+// |energy ratio − 1| ≤ energy_tolerance + q σ, q the quantile of a two-sided
+// 0.27 % false-alarm rate (3 for a σ summed over pixels, Student's t with
+// K − 1 degrees of freedom for a σ from K ≥ 3 chains).
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -27,8 +37,8 @@ namespace gi {
 
 // What the pipeline hands the check at a compared frame.
 struct RealtimeEstimate {
-  Image frame_a, frame_b;  // this frame's DI of chains A and B
-  Image mean_a, mean_b;    // temporal means over the window
+  std::vector<Image> frames;  // this frame's image of each chain (2 or more)
+  std::vector<Image> means;   // each chain's temporal mean over the window
   std::uint32_t window_start = 0, window_frames = 0;
   // The images are DI + GI + specular ("gi": true): compared with the Embree
   // full path tracer instead of its direct-lighting mode.
@@ -58,6 +68,10 @@ class RealtimeReferenceCheck : public ReferenceComparisons {
     double temporal_edge_relmse, reference_seconds;
     bool reference_cached, full_gi;
     std::string evidence;
+    std::uint32_t chains;
+    // The energy ratio's 1σ from the chains' spread (K − 1 degrees of
+    // freedom), whichever σ the verdict used.
+    double energy_ratio_sigma_chains;
   };
   std::vector<FrameComparison> frames_;
 };

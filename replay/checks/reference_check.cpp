@@ -69,6 +69,12 @@ ReferenceCheckParams reference_check_params(const CheckSpec& spec, const Scenari
                        fmt::format("expected a frame count no larger than the first compared frame {}", first));
     p.warmup_frames = w.get<std::uint32_t>();
   }
+  if (spec.params.contains("chains")) {
+    if (scenario.mode != RenderMode::Realtime)
+      throw InputError(scenario.file.string(), spec.json_path + "/chains",
+                       "chains only in realtime mode (the reference mode's halves are its own)");
+    p.chains = spec.params["chains"].get<std::uint32_t>();
+  }
   return p;
 }
 
@@ -217,6 +223,7 @@ void validate_reference_params(const CheckSpec& spec, const Scenario& scenario) 
   if (j.contains("relmse_tolerance")) r.number(j["relmse_tolerance"], path + "/relmse_tolerance", 0.0, 1e6);
   // At least 2: the two half-sample images estimate the reference's noise.
   if (j.contains("spp")) r.uint(j["spp"], path + "/spp", 2, 1u << 24);
+  if (j.contains("chains")) r.uint(j["chains"], path + "/chains", 2, kMaxChains);
 }
 
 // The reference mode: the accumulated mean and its two halves.
@@ -248,12 +255,17 @@ class RealtimeReferencePlugin final : public Check {
   CheckNeeds needs() const override {
     return {.reads = {FrameInput::chains},
             .frames = std::set<std::uint32_t>(check_.params().frames.begin(), check_.params().frames.end()),
-            .two_chains = true,
+            .chains = check_.params().chains,
             .warmup_frames = check_.params().warmup_frames};
   }
   void observe(const FrameView& f, nlohmann::json&) override {
-    RealtimeEstimate estimate{f.chain_frame(0), f.chain_frame(1), f.chain_mean(0), f.chain_mean(1), f.window_start(),
-                              f.chain_window_frames()};
+    RealtimeEstimate estimate;
+    for (std::uint32_t c = 0; c < check_.params().chains; ++c) {
+      estimate.frames.push_back(f.chain_frame(c));
+      estimate.means.push_back(f.chain_mean(c));
+    }
+    estimate.window_start = f.window_start();
+    estimate.window_frames = f.chain_window_frames();
     estimate.full_gi = f.full_gi();
     check_.compare_frame(f.frame(), f.scene(), estimate);
   }
@@ -309,6 +321,12 @@ constexpr const char* kSchema = R"json({
       "minimum": 2,
       "maximum": 16777216,
       "description": "Reference samples per pixel (at least 2: two half-sample images estimate its noise)."
+    },
+    "chains": {
+      "type": "integer",
+      "minimum": 2,
+      "maximum": 16,
+      "description": "Realtime mode only: independent chains, each a pipeline of its own that shares no state (default 2). Their mean is compared; its per-pixel noise is the chains' variance / K. With 2 the energy ratio's sigma sums the pixels' noise as if they were independent (fine where chains share no image-wide error); with K >= 3 it is the spread of the chains' mean luminances / sqrt(K) with K - 1 degrees of freedom, judged at the t quantile of the same two-sided 0.27 % false-alarm rate as 3 sigma of a normal. A GI scene whose world cache freezes a seed-dependent error for the whole run needs K >= 3 for an energy sigma that holds."
     }
   }
 })json";

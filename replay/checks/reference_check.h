@@ -15,6 +15,9 @@
 
 namespace gi {
 
+// The most independent chains a check may ask for (each one a whole pipeline).
+inline constexpr std::uint32_t kMaxChains = 16;
+
 struct ReferenceCheckParams {
   std::vector<std::uint32_t> frames;  // default: the last frame
   std::uint32_t spp = 1024;           // Embree samples per pixel
@@ -26,6 +29,12 @@ struct ReferenceCheckParams {
   // state (a world cache converging over ~100 frames), not its warm-up; the
   // warm-up itself is the blend_lag check's business. 0: the whole window.
   std::uint32_t warmup_frames = 0;
+  // Realtime mode only: independent chains (pipelines that share no state).
+  // With 2 the energy σ sums the pixels' noise as if independent; with 3 or
+  // more it comes from the chains' spread (K − 1 degrees of freedom), which
+  // also holds the error a chain shares over the whole image (the world
+  // cache's cell placement, frozen for a run: README "Error bars").
+  std::uint32_t chains = 2;
 };
 
 // Reads the check's parameters; InputError at <check json_path>/<key>.

@@ -88,7 +88,7 @@ class ShadowLagCheck final : public Check, ReferenceComparisons {
   CheckNeeds needs() const override {
     return {.reads = {FrameInput::chains},
             .frames = std::set<std::uint32_t>(params_.frames.begin(), params_.frames.end()),
-            .two_chains = true};
+            .chains = 2};
   }
 
   void observe(const FrameView& f, nlohmann::json& record) override {

@@ -4,6 +4,7 @@
 
 #include "core/errors.h"
 #include "core/scenario.h"
+#include "core/seed_set.h"
 
 namespace gi {
 namespace {
@@ -35,6 +36,10 @@ void Commands::add_to(CLI::App& app) {
   run_->add_option("scenario", scenario_path_, "scenario JSON file")->required();
   run_->add_option("--frames", run_options_.frames, "override the frame count");
   run_->add_option("--seed", run_options_.seed, "override the seed");
+  run_->add_option("--seeds", run_seeds_,
+                   "run at N seeds derived from the seed (--seed, else the scenario's; core/seed_set.h) into "
+                   "<out>/seed-<value>/; <out>/summary.json: each check's verdict per seed, pass/fail/flaky")
+      ->check(CLI::Range(1u, kMaxSeeds));
   run_->add_option("--device", run_options_.device, "Vulkan device index (see 'giharness devices')");
   run_->add_option("--backend", run_options_.backend, "tracing backend")
       ->check(CLI::IsMember({"auto", "rayquery", "bvh"}));
@@ -90,6 +95,10 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--memory-limit-mb", nightly_options_.memory_limit_mb,
                        "address-space limit of each scenario's process (off by default)")
       ->check(CLI::PositiveNumber);
+  nightly_->add_option("--seeds", nightly_options_.seeds,
+                       "run each scenario at N seeds derived from its own (core/seed_set.h); a check whose verdict "
+                       "differs between seeds is flaky (a failure); the baseline comparison uses seed 0 alone")
+      ->check(CLI::Range(1u, kMaxSeeds));
   // Slurm (replay/cli/nightly_slurm.cpp): the --slurm-* flags need --slurm N.
   NightlySlurmOptions& so = nightly_options_.slurm;
   CLI::Option* slurm = nightly_->add_option("--slurm", so.tasks,
@@ -122,6 +131,8 @@ void Commands::add_to(CLI::App& app) {
   nightly_scenario_->add_option("--out", nightly_scenario_options_.out_dir)->required();
   nightly_scenario_->add_option("--row", nightly_scenario_options_.row)->required();
   nightly_scenario_->add_option("--device", nightly_scenario_options_.device);
+  nightly_scenario_->add_option("--seeds", nightly_scenario_options_.seeds);
+  nightly_scenario_->add_option("--seed-index", nightly_scenario_options_.seed_index);
 
   baseline_ = app.add_subcommand("baseline", "manage nightly baselines");
   baseline_update_ = baseline_->add_subcommand("update", "write a nightly's figures as the baselines of its device class");
@@ -180,6 +191,7 @@ int Commands::execute() {
   if (run_->parsed()) {
     run_options_.capture = parse_frame_list(capture_list_);
     const Scenario scenario = load_scenario(scenario_path_);
+    if (run_seeds_) return run_seed_set(scenario, run_options_, *run_seeds_);
     return run_scenario(scenario, run_options_).exit_code;
   }
   if (reference_->parsed()) return run_reference_command(reference_options_);

@@ -55,6 +55,10 @@ struct NightlyOptions {
   double image_budget_mb = kDefaultImageBudgetMb;  // --update-baseline: the device class's baseline images stay within this
   double scenario_timeout = 3600.0;              // s of wall time per scenario, unless it sets timeout_seconds
   std::optional<std::uint64_t> memory_limit_mb;  // address-space limit of each scenario's process
+  // --seeds N: each scenario at N seeds (core/seed_set.h), each in a process of
+  // its own; seed 0 (the scenario's own) keeps today's layout and alone meets
+  // the baseline; seed k > 0 goes to <out>/<name>/seed-<value>/.
+  std::optional<std::uint32_t> seeds;
   NightlySlurmOptions slurm;
 };
 
@@ -65,8 +69,16 @@ struct NightlyScenarioOptions {
   std::filesystem::path out_dir;  // the suite's out dir (the scenario's results go to <out>/<name>)
   std::filesystem::path row;
   std::optional<int> device;
+  std::optional<std::uint32_t> seeds;  // the nightly's --seeds: the row names its seed
+  std::uint32_t seed_index = 0;        // k of the seed set; k > 0 runs into <out>/<name>/seed-<value>/
 };
 int run_nightly_scenario(const NightlyScenarioOptions& options);  // replay/cli/nightly.cpp
+
+// `run --seeds N` (replay/cli/run_seeds.cpp): the scenario at each seed of
+// its set from options.seed (else the scenario's), into <out>/seed-<value>/,
+// and the combined <out>/summary.json (reports/seed_verdicts.h). Exit 0 only
+// when every check passed at every seed.
+int run_seed_set(const Scenario& scenario, const RunOptions& options, std::uint32_t count);
 
 struct BaselineUpdateOptions {
   std::filesystem::path from;     // a nightly's out dir
@@ -151,6 +163,7 @@ class Commands {
   std::filesystem::path scenario_path_;
   RunOptions run_options_;
   std::string capture_list_;
+  std::optional<std::uint32_t> run_seeds_;  // run --seeds N
   ReferenceCommandOptions reference_options_;
   NightlyOptions nightly_options_;
   BaselineUpdateOptions baseline_options_;

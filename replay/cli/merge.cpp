@@ -44,7 +44,7 @@ int run_merge(const MergeOptions& o) {
   for (const std::filesystem::path& dir : o.inputs) {
     const nlohmann::json suite = read_suite(dir);
     for (const char* key : {"suite", "device", "device_class", "baseline_dir", "baseline_status", "fail_on_change",
-                            "fail_on_timing"})
+                            "fail_on_timing", "seeds"})
       if (!merged.contains(key) && suite.contains(key)) merged[key] = suite[key];
     if (suite.contains("device_class") && merged["device_class"] != suite["device_class"])
       spdlog::warn("merge: {} ran on device class {}, the first shard on {}: timings are not comparable",

@@ -15,6 +15,11 @@
 // kills at once (every file is written then renamed, so what is on disk stays
 // valid). `--resume` keeps the completed scenarios of <out>/summary.json and
 // runs the rest, and again those that crashed, timed out or lost the device.
+//
+// Seeds (--seeds N, core/seed_set.h): each scenario's seeds 1 … N−1 run after
+// seed 0, each in a child of its own, into <out>/<name>/seed-<value>/; only
+// seed 0 meets the baseline; a check whose verdict differs between seeds is
+// flaky and so is its row (reports/seed_verdicts.h).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -31,6 +36,7 @@
 #include "core/errors.h"
 #include "core/json_input.h"
 #include "core/scenario.h"
+#include "core/seed_set.h"
 #include "gpu/device.h"
 #include "replay/cli/child_process.h"
 #include "replay/cli/commands.h"
@@ -39,6 +45,7 @@
 #include "reports/figures.h"
 #include "reports/json_figures.h"
 #include "reports/regression.h"
+#include "reports/seed_verdicts.h"
 #include "reports/suite_report.h"
 #include "reports/timing_report.h"
 #include "reports/timing_verdict.h"
@@ -104,8 +111,11 @@ void judge_bug(const BugSpec& bug, nlohmann::json& row) {
 }
 
 // Runs one scenario, in this process, and fills its suite row (the child's
-// half of run_isolated).
-void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
+// half of run_isolated). With --seeds, at seed `seed_index` of the scenario's
+// seed set (core/seed_set.h): seed 0 is the scenario's own, in today's
+// layout; seed k > 0 runs into <out>/<name>/seed-<value>/.
+void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row,
+             std::uint32_t seed_index = 0) {
   int code = 0;
   row.erase("error");
   std::optional<BugSpec> bug;
@@ -115,15 +125,25 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
     bug = scenario.bug;
     RunOptions ro;
     ro.device = o.device;
-    ro.out_dir = o.out_dir / scenario.name;
+    std::filesystem::path rel = scenario.name;  // the run's out dir, relative to the suite's
     ro.quiet = true;
     ro.capture_failures = true;  // a failing check leaves a capture of its first failing frame
     // Speed against error at equal time (replay/equal_time.h) for the report;
     // a bug-museum scenario only asks whether its check catches the bug.
     ro.equal_time = !bug;
+    if (o.seeds) {
+      const std::uint32_t seed = seed_set(scenario.seed, seed_index + 1).back();
+      row["seed"] = seed;
+      if (seed_index > 0) {
+        ro.seed = seed;
+        rel /= seed_dir_name(seed);
+        ro.equal_time = false;  // the other seeds give verdicts; the report's speed against error is seed 0's
+      }
+    }
+    ro.out_dir = o.out_dir / rel;
     const RunResult r = run_scenario(scenario, ro);
     code = r.exit_code;
-    row["summary"] = (std::filesystem::path(scenario.name) / "summary.json").string();
+    row["summary"] = (rel / "summary.json").string();
     row["checks"] = nlohmann::json::array();
     for (const CheckResult& c : r.checks)
       row["checks"].push_back({{"name", c.name},
@@ -137,7 +157,7 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
     for (const nlohmann::json& f : r.summary.value("failure_captures", nlohmann::json::array()))
       row["failure_captures"].push_back(
           {{"check", f["check"]}, {"frame", f["frame"]},
-           {"capture", (std::filesystem::path(scenario.name) / f["capture"].get<std::string>()).string()}});
+           {"capture", (rel / f["capture"].get<std::string>()).string()}});
   } catch (const InputError& e) {
     code = 2;
     row["error"] = e.what();
@@ -176,16 +196,20 @@ double scenario_timeout(const std::filesystem::path& file, double suite_default)
 }
 
 // Runs one scenario in a child process and fills its suite row from what
-// the child wrote, or from how it ended when it wrote nothing.
-void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row) {
+// the child wrote, or from how it ended when it wrote nothing. With --seeds,
+// at seed `seed_index` of its set (run_one).
+void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nlohmann::json& row,
+                  std::uint32_t seed_index = 0) {
   const std::filesystem::path logs = o.out_dir / "logs";
   std::filesystem::create_directories(logs);
-  const std::string stem = file.stem().string();
+  const std::string stem = file.stem().string() + (seed_index > 0 ? ".seed" + std::to_string(seed_index) : "");
   const std::filesystem::path row_file = logs / (stem + ".row.json"), log = logs / (stem + ".log");
   std::filesystem::remove(row_file);
   std::vector<std::string> argv = {self_executable().string(), "nightly-scenario", file.string(), "--out",
                                    o.out_dir.string(), "--row", row_file.string()};
   if (o.device) argv.insert(argv.end(), {"--device", std::to_string(*o.device)});
+  if (o.seeds)
+    argv.insert(argv.end(), {"--seeds", std::to_string(*o.seeds), "--seed-index", std::to_string(seed_index)});
   ChildLimits limits;
   limits.wall_seconds = scenario_timeout(file, o.scenario_timeout);
   if (o.memory_limit_mb) limits.memory_bytes = *o.memory_limit_mb << 20;
@@ -223,7 +247,9 @@ void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nl
   // The log goes beside the scenario's results when it got that far.
   std::filesystem::path kept = log;
   if (row.contains("name") && row["name"].is_string() && !row["name"].get<std::string>().empty()) {
-    const std::filesystem::path dir = o.out_dir / row["name"].get<std::string>();
+    std::filesystem::path dir = o.out_dir / row["name"].get<std::string>();
+    if (seed_index > 0 && row.contains("seed") && row["seed"].is_number_unsigned())
+      dir /= seed_dir_name(row["seed"].get<std::uint32_t>());
     std::filesystem::create_directories(dir);
     kept = dir / "run.log";
     std::filesystem::rename(log, kept);
@@ -303,6 +329,40 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
   }
 }
 
+// --seeds N: the scenario's seeds 1 … N−1, each in a process of its own
+// (run_isolated), after seed 0 (`seed0`: its row before the baseline
+// comparison); their verdicts go into `row` (reports/seed_verdicts.h).
+// Nothing of theirs meets the baseline. False when a stop signal came between
+// two seeds: the scenario is then not complete.
+template <class Stop>
+bool run_other_seeds(nlohmann::json& row, const nlohmann::json& seed0, const NightlyOptions& o, const Stop& stop) {
+  const std::uint32_t count = *o.seeds;
+  if (error_verdict(seed0.value("verdict", "")) || !seed0.contains("checks")) {
+    row["seeds"] = {{"count", count},
+                    {"skipped", fmt::format("seed 0 ended in {}: the other seeds were not run", seed0.value("verdict", "?"))}};
+    return true;
+  }
+  std::vector<nlohmann::json> runs = {seed0};
+  for (std::uint32_t k = 1; k < count; ++k) {
+    if (stop.requested()) return false;
+    const auto t0 = std::chrono::steady_clock::now();
+    nlohmann::json r = {{"file", row["file"]}};
+    run_isolated(row["file"].get<std::string>(), o, r, k);
+    r["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    spdlog::info("  seed {} ({} of {}): {}", r.value("seed", 0u), k + 1, count, r.value("verdict", "?"));
+    runs.push_back(std::move(r));
+  }
+  apply_seed_runs(row, runs);
+  for (const nlohmann::json& c : row.value("checks", nlohmann::json::array()))
+    if (c.value("seed_status", "") == "flaky")
+      spdlog::warn("{}: check {} flaky: {}", row.value("name", "?"), c.value("name", "?"),
+                   seed_verdict_list(row["seeds"]["values"].get<std::vector<std::uint32_t>>(),
+                                     c["seed_verdicts"].get<std::vector<std::string>>()));
+  if (row.contains("bug") && row["bug"].contains("seeds"))
+    spdlog::info("{}: bug {}", row.value("name", "?"), row["bug"]["seeds"].value("text", ""));
+  return true;
+}
+
 // "i/n" with 1 ≤ i ≤ n.
 std::pair<int, int> parse_shard(const std::string& text) {
   int i = 0, n = 0;
@@ -320,9 +380,12 @@ std::string progress_line(std::size_t k, std::size_t total, const nlohmann::json
     passed += c.value("verdict", "") == "pass";
   }
   for (const auto& d : row.value("regressions", nlohmann::json::array())) regressions += d.value("status", "") != "improved";
-  return fmt::format("[{}/{}] {:<28} {:<9} checks {}/{}  regressions {}  {:.1f} s  (eta {:.0f} s)", k, total,
+  std::string seeds;
+  if (row.contains("seeds") && row["seeds"].contains("flaky_checks"))
+    seeds = fmt::format("  seeds {}: {} flaky", row["seeds"].value("count", 0), row["seeds"]["flaky_checks"].size());
+  return fmt::format("[{}/{}] {:<28} {:<9} checks {}/{}  regressions {}{}  {:.1f} s  (eta {:.0f} s)", k, total,
                      row.value("name", row.value("file", "?")), row.value("verdict", "?"), passed, checks, regressions,
-                     seconds, eta);
+                     seeds, seconds, eta);
 }
 
 }  // namespace
@@ -349,11 +412,13 @@ int run_nightly(const NightlyOptions& o) {
       throw InputError(summary_path.string(), "", std::string("a nightly summary to resume (") + e.what() + ")");
     }
   }
-  // Completed rows of a resumed night, by scenario file.
+  // Completed rows of a resumed night, by scenario file (run at as many seeds as asked now).
   std::map<std::string, nlohmann::json> done;
+  const std::uint32_t seed_count = o.seeds.value_or(1);
   if (suite.is_object())
     for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array()))
       if (row.value("status", "") == "complete" && !retried_on_resume(row) &&
+          row.value("seeds", nlohmann::json::object()).value("count", 1u) == seed_count &&
           (!row.contains("summary") || std::filesystem::exists(o.out_dir / row["summary"].get<std::string>())))
         done[row.value("file", "")] = row;
 
@@ -365,6 +430,7 @@ int run_nightly(const NightlyOptions& o) {
            {"baseline_dir", o.baseline_dir.string()},
            {"scenarios", nlohmann::json::array()}};
   if (!shard_info.is_null()) suite["shard"] = shard_info;
+  if (o.seeds) suite["seeds"] = {{"count", *o.seeds}, {"rule", seed_rule_text()}};
   for (const std::filesystem::path& file : files) {
     const auto it = done.find(file.string());
     suite["scenarios"].push_back(it != done.end() ? it->second
@@ -383,6 +449,7 @@ int run_nightly(const NightlyOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     spdlog::info("[{}/{}] {} ...", k, files.size(), row["file"].get<std::string>());
     run_isolated(row["file"].get<std::string>(), o, row);
+    const nlohmann::json seed0 = o.seeds ? row : nlohmann::json();
     if (row.contains("summary")) {
       nlohmann::json summary;
       try {
@@ -410,6 +477,10 @@ int run_nightly(const NightlyOptions& o) {
           write_baseline(o.baseline_dir / cls, summary,
                          o.out_dir / std::filesystem::path(row["summary"].get<std::string>()).parent_path());
       }
+    }
+    if (o.seeds && !run_other_seeds(row, seed0, o, stop)) {
+      row = {{"file", row["file"]}, {"status", "pending"}};  // --resume runs all its seeds again
+      break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     row["wall_seconds"] = json_figure(seconds);
@@ -474,12 +545,30 @@ int run_nightly(const NightlyOptions& o) {
     }
   if (suite.contains("bugs")) {
     for (const nlohmann::json& row : suite["scenarios"])
-      if (row.contains("bug") && !row["bug"].value("caught", false))
-        spdlog::error("missed bug: {} ({}): {} did not fail", row.value("name", "?"), row["bug"].value("source", ""),
-                      row["bug"]["silent_checks"].dump());
+      if (row.contains("bug") && !row["bug"].value("caught", false)) {
+        if (row["bug"].contains("seeds"))
+          spdlog::error("missed bug: {} ({}): {}", row.value("name", "?"), row["bug"].value("source", ""),
+                        row["bug"]["seeds"].value("text", ""));
+        else
+          spdlog::error("missed bug: {} ({}): {} did not fail", row.value("name", "?"), row["bug"].value("source", ""),
+                        row["bug"].value("silent_checks", nlohmann::json::array()).dump());
+      }
     const nlohmann::json& b = suite["bugs"];
     spdlog::info("bugs: {} caught, {} missed: catch rate {:.0f} %", b["caught"].get<int>(), b["missed"].get<int>(),
                  100.0 * b["catch_rate"].get<double>());
+    if (b.contains("seed_runs"))
+      spdlog::info("bugs over seeds: {} flaky (caught at some seeds only); caught in {} of {} seed runs ({:.0f} %)",
+                   b["flaky"].get<int>(), b["seed_runs_caught"].get<int>(), b["seed_runs"].get<int>(),
+                   100.0 * b["seed_catch_rate"].get<double>());
+  }
+  if (suite.contains("seeds") && suite["seeds"].contains("flaky_checks")) {
+    const nlohmann::json& t = suite["seeds"];
+    for (const nlohmann::json& f : t["flaky_checks"])
+      spdlog::error("flaky: {} {}: {}", f.value("scenario", "?"), f.value("check", "?"),
+                    seed_verdict_list(f["seeds"].get<std::vector<std::uint32_t>>(),
+                                      f["verdicts"].get<std::vector<std::string>>()));
+    spdlog::info("seeds: {} per scenario; {} flaky checks in {} scenarios", t.value("count", 0u),
+                 t["flaky_checks"].size(), t.value("flaky_scenarios", 0u));
   }
   if (suite["baseline_status"] != "found")
     spdlog::warn("no baselines in {} (create them with `giharness nightly --update-baseline` or `giharness baseline "
@@ -509,7 +598,10 @@ int run_nightly_scenario(const NightlyScenarioOptions& o) {
   NightlyOptions options;
   options.out_dir = o.out_dir;
   options.device = o.device;
-  run_one(o.scenario, options, row);
+  options.seeds = o.seeds;
+  if (o.seeds && o.seed_index >= *o.seeds)
+    throw InputError("--seed-index", "", fmt::format("an index below --seeds {}", *o.seeds));
+  run_one(o.scenario, options, row, o.seed_index);
   gpu::Device::set_fault_handler(nullptr);
   write_json_file(o.row, row);
   return row["exit_code"].get<int>();
