@@ -13,6 +13,11 @@
 // reference's mean. The figure is the per-frame relMSE there, averaged over
 // both chains and the judged frames; it fails above `max_relmse`, which the
 // scenario must give (the noise a scene may have is the scenario's to say).
+//
+// Statistical model: none derived. The figure is a mean of per-frame
+// relMSEs, heavy-tailed where fireflies are the bug; `max_relmse` is set
+// between the fixed pipeline's and the bug's measured figures, with the
+// seeds they were measured at in the scenario.
 #include <fmt/format.h>
 
 #include "core/cache_root.h"

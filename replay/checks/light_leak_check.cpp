@@ -12,6 +12,14 @@
 // luminance is below `shadow_fraction` of the reference's mean. Fails when
 // the realtime energy there exceeds the reference's by more than
 // `max_excess` plus three standard deviations of both estimators' noise.
+//
+// Statistical model: the region's energy ratio, its σ summed over the
+// region's pixels as independent (metrics.h compare, two chains that share
+// no state). One-sided 3σ would be a 0.135 % false-alarm rate, but in a GI
+// scene the world cache adds an error each chain shares over the region,
+// which that σ does not hold (docs/statistics.md). So `max_excess` is the
+// scenario's measured spread of the fixed pipeline plus margin, not a
+// derived limit; each scenario states the seeds it was measured at.
 #include <algorithm>
 
 #include <fmt/format.h>
