@@ -57,7 +57,8 @@ TEST(CheckRegistry, EveryDeclaredCheckIsMadeThroughTheRegistry) {
   const std::map<std::string, nlohmann::json> required = {
       {"ray_budget", {{"max_rays_per_path", 2.0}}},
       {"highlight_noise", {{"max_relmse", 1.0}}},
-      {"shadow_lag", {{"event_frame", 4}, {"settle_frames", 3}}}};
+      {"shadow_lag", {{"event_frame", 4}, {"settle_frames", 3}}},
+      {"motion", {{"frames", {4}}}}};
   // The radiance-cascades checks (rc_*) judge canvas scenarios only.
   nlohmann::json rc_checks = nlohmann::json::array();
   for (const std::string& n : names) {

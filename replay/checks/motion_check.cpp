@@ -95,6 +95,12 @@ MotionParams motion_params(const CheckContext& c) {
   std::set<std::uint32_t> candidates;
   for (std::uint32_t f : moving_frames(c))
     for (std::uint32_t t = f; t <= f + p.trail_frames && t < c.frames; ++t) candidates.insert(t);
+  if (j.contains("frames")) {  // the frames to judge, as given (the scenario knows where it moves)
+    const nlohmann::json& f = r.array(j["frames"], at + "/frames", 1);
+    for (std::size_t i = 0; i < f.size(); ++i)
+      p.reference.frames.push_back(r.uint(f[i], JsonReader::at(at + "/frames", i), 1, c.frames - 1));
+    return p;
+  }
   std::uint32_t next = p.first_frame;
   for (std::uint32_t f : candidates)
     if (f >= next) {
@@ -295,6 +301,14 @@ constexpr const char* kSchema = R"json({
   "properties": {
     "name": {
       "const": "motion"
+    },
+    "frames": {
+      "type": "array",
+      "minItems": 1,
+      "items": {
+        "$ref": "#/$defs/frame"
+      },
+      "description": "The frames to judge, instead of the moving frames the scenario's events give (each at least 1: the frame before it is read too)."
     },
     "first_frame": {
       "type": "integer",
