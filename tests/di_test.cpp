@@ -51,7 +51,8 @@ TEST(RealtimeDi, PlainRgb9e5PackingLosesTheBrightEmitterAndTheCheckSaysHowMuch) 
   // Switching only the packing back to log2 makes the check pass.
   const DiRun log2 = run("di_packing_range.json", "", "packing_log2");
   EXPECT_EQ(log2.exit_code, 0) << log2.message;
-  EXPECT_LT(std::abs(energy(log2) - 1.0), 0.01 + 3.0 * sigma(log2)) << log2.message;
+  // 8 chains, tolerance 2 %: the margin is Student's t with 7 degrees of freedom (4.53 sigma).
+  EXPECT_LT(std::abs(energy(log2) - 1.0), 0.02 + 4.53 * sigma(log2)) << log2.message;
 }
 
 TEST(RealtimeDi, Solari018MatchesTheEmbreeDirectLightingOnEveryDiScene) {

@@ -6,21 +6,26 @@
 // shadowed side is a small share of the image's energy, and the same bugs
 // often darken the lit side.
 //
-// On each judged frame the realtime temporal mean of the two chains is
+// On each judged frame the realtime temporal mean of the chains is
 // compared with the Embree full path tracer (the reference check's renders
 // and cache) over the shadowed region only: the pixels whose reference
 // luminance is below `shadow_fraction` of the reference's mean. Fails when
 // the realtime energy there exceeds the reference's by more than
-// `max_excess` plus three standard deviations of both estimators' noise.
+// `max_excess` plus the noise margin below.
 //
-// Statistical model: the region's energy ratio, its σ summed over the
-// region's pixels as independent (metrics.h compare, two chains that share
-// no state). One-sided 3σ would be a 0.135 % false-alarm rate, but in a GI
-// scene the world cache adds an error each chain shares over the region,
-// which that σ does not hold (docs/statistics.md). So `max_excess` is the
-// scenario's measured spread of the fixed pipeline plus margin, not a
-// derived limit; each scenario states the seeds it was measured at.
+// Statistical model: the region's energy ratio of the mean of K chains
+// (pipelines that share no state, `chains`, default 8), against the path
+// tracer. Its σ is the spread of the chains' region energies / √K with
+// K − 1 degrees of freedom (metrics.h compare_chains): in a GI scene the
+// world cache freezes a seed-dependent error over the whole region for the
+// run, which a σ summed over pixels taken as independent misses (10× too
+// small, docs/statistics.md). The limit is `max_excess` + q σ with q
+// Student's t quantile at one-sided 0.135 % (3 σ of a normal): a fixed
+// pipeline whose true excess is at most `max_excess` fails at most that
+// often. `max_excess` is the pipeline's own excess in the scene, which a
+// scenario takes from its measured mean over seeds, not one seed's figure.
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -51,6 +56,7 @@ struct LeakParams {
   ReferenceCheckParams reference;  // frames, spp, warmup_frames
   double shadow_fraction = 0.2;
   double max_excess = 0.1;
+  std::uint32_t chains = 8;
 };
 
 LeakParams leak_params(const CheckContext& c) {
@@ -74,13 +80,20 @@ LeakParams leak_params(const CheckContext& c) {
     p.shadow_fraction = (r.number(j["shadow_fraction"], at + "/shadow_fraction", 0.0, 1.0), j["shadow_fraction"].get<double>());
   if (j.contains("max_excess"))
     p.max_excess = (r.number(j["max_excess"], at + "/max_excess", 0.0, 1e6), j["max_excess"].get<double>());
+  if (j.contains("chains")) p.chains = r.uint(j["chains"], at + "/chains", 3, kMaxChains);
   return p;
+}
+
+// The one-sided margin of a 0.135 % false-alarm rate (3 σ of a normal) for
+// a σ estimated with `dof` degrees of freedom.
+double one_sided_margin(std::uint32_t dof) {
+  return student_t_quantile(0.5 + std::erf(Comparison::kNoiseMargin / std::sqrt(2.0)) / 2.0, dof);
 }
 
 struct LeakFrame {
   std::uint32_t frame = 0, window_frames = 0;
   std::size_t pixels = 0;
-  double energy_ratio = 0.0, sigma = 0.0, whole_image_ratio = 0.0;
+  double energy_ratio = 0.0, sigma = 0.0, limit = 0.0, whole_image_ratio = 0.0;
   bool leaks = false;
   std::string evidence;
 };
@@ -92,25 +105,35 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
   CheckNeeds needs() const override {
     return {.reads = {FrameInput::chains},
             .frames = std::set<std::uint32_t>(params_.frames.begin(), params_.frames.end()),
-            .chains = 2,
+            .chains = leak_.chains,
             .warmup_frames = params_.warmup_frames};
   }
 
   void observe(const FrameView& f, nlohmann::json& record) override {
-    const Image mean_a = f.chain_mean(0), mean_b = f.chain_mean(1);
-    const Reference ref = reference(f.scene(), mean_a.width, mean_a.height, false);
+    std::vector<Image> means;
+    for (std::uint32_t k = 0; k < f.chain_count(); ++k) means.push_back(f.chain_mean(k));
+    const Reference ref = reference(f.scene(), means[0].width, means[0].height, false);
     double ref_sum = 0.0;
     for (const glm::vec3& p : ref.mean.pixels) ref_sum += lum(p);
     const double threshold = leak_.shadow_fraction * ref_sum / double(ref.mean.size());
     std::vector<bool> region(ref.mean.size());
     std::size_t pixels = 0;
     for (std::size_t i = 0; i < region.size(); ++i) pixels += region[i] = lum(ref.mean.pixels[i]) < threshold;
-    const Image mean = chain_average(mean_a, mean_b);
-    const Comparison whole = compare(mean, mean_a, mean_b, ref.mean, ref.half_a, ref.half_b);
-    const Comparison c = compare(masked(mean, region), masked(mean_a, region), masked(mean_b, region),
-                                 masked(ref.mean, region), masked(ref.half_a, region), masked(ref.half_b, region));
-    LeakFrame l{f.frame(), f.chain_window_frames(), pixels, c.energy_ratio, c.energy_ratio_sigma, whole.energy_ratio};
-    l.leaks = pixels > 0 && c.energy_ratio - 1.0 > leak_.max_excess + Comparison::kNoiseMargin * c.energy_ratio_sigma;
+    std::vector<Image> in_region;
+    for (const Image& m : means) in_region.push_back(masked(m, region));
+    const Comparison whole = compare_chains(means, ref.mean, ref.half_a, ref.half_b);
+    const Comparison c =
+        compare_chains(in_region, masked(ref.mean, region), masked(ref.half_a, region), masked(ref.half_b, region));
+    LeakFrame l;
+    l.frame = f.frame();
+    l.window_frames = f.chain_window_frames();
+    l.pixels = pixels;
+    l.energy_ratio = c.energy_ratio;
+    l.sigma = c.energy_ratio_sigma;
+    l.limit = 1.0 + leak_.max_excess + one_sided_margin(c.energy_dof) * c.energy_ratio_sigma;
+    l.whole_image_ratio = whole.energy_ratio;
+    l.leaks = pixels > 0 && c.energy_ratio > l.limit;
+    const Image mean = chain_average(means);
     record["light_leak"] = {{"shadowed_pixels", pixels}, {"energy_ratio", json_figure(c.energy_ratio)}};
     // Evidence: where the region is and what each side put there.
     Image region_image(ref.mean.width, ref.mean.height);
@@ -129,7 +152,9 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     CheckResult r;
     r.name = "light_leak";
     r.limits = {{"shadow_fraction", leak_.shadow_fraction}, {"max_excess", leak_.max_excess},
-                {"noise_margin_sigma", Comparison::kNoiseMargin}, {"spp", params_.spp}};
+                {"chains", leak_.chains}, {"spp", params_.spp},
+                {"false_alarm_rate", "one-sided 0.135 % (Student's t, chains - 1 degrees of freedom) when the "
+                                     "pipeline's true excess is at most max_excess"}};
     nlohmann::json list = nlohmann::json::array();
     const LeakFrame* worst = nullptr;
     for (const LeakFrame& l : frames_) {
@@ -138,6 +163,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
                       {"shadowed_pixels", l.pixels},
                       {"shadowed_energy_ratio", json_figure(l.energy_ratio)},
                       {"shadowed_energy_ratio_sigma", json_figure(l.sigma)},
+                      {"limit", json_figure(l.limit)},
                       {"whole_image_energy_ratio", json_figure(l.whole_image_ratio)}});
       r.evidence.push_back(l.evidence);
       if (l.leaks && !r.first_failing_frame) r.first_failing_frame = l.frame;
@@ -152,10 +178,10 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     r.figures["max_shadowed_energy_ratio"] = json_figure(worst->energy_ratio);
     r.verdict = r.first_failing_frame ? Verdict::fail : Verdict::pass;
     r.message = fmt::format("frame {}: in the shadowed region ({} pixels with reference luminance below {:.2f} of its "
-                            "mean) the realtime image has {:.3f} of the path tracer's energy (1 sigma {:.3f}; limit "
-                            "1 + {:.2f} + 3 sigma; whole image {:.3f}){}",
+                            "mean) the realtime image has {:.3f} of the path tracer's energy (1 sigma {:.3f} from {} "
+                            "chains; limit {:.3f} = 1 + {:.2f} + t sigma; whole image {:.3f}){}",
                             worst->frame, worst->pixels, leak_.shadow_fraction, worst->energy_ratio, worst->sigma,
-                            leak_.max_excess, worst->whole_image_ratio,
+                            leak_.chains, worst->limit, leak_.max_excess, worst->whole_image_ratio,
                             r.verdict == Verdict::fail ? ": light leaks into shadow" : "");
     return r;
   }
@@ -171,7 +197,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
 constexpr const char* kSchema = R"json({
   "type": "object",
   "additionalProperties": false,
-  "description": "Light where the path tracer has shadow (issue 23; Bevy #22252, #22348, #24332): on each judged frame, the realtime temporal mean of the two chains against the Embree full path tracer over the shadowed region only (reference luminance below shadow_fraction of its mean); fails when the realtime energy there exceeds the reference's by more than max_excess + 3 sigma. Realtime mode with \"gi\": true.",
+  "description": "Light where the path tracer has shadow (issue 23; Bevy #22252, #22348, #24332): on each judged frame, the realtime temporal mean of K independent chains against the Embree full path tracer over the shadowed region only (reference luminance below shadow_fraction of its mean). Model: the region's energy ratio, its sigma from the spread of the chains' region energies / sqrt(K) (K - 1 degrees of freedom; it holds the world cache's error a chain shares over the region). Fails when the ratio exceeds 1 + max_excess + q sigma, q Student's t at one-sided 0.135 %: the false-alarm rate when the pipeline's true excess is at most max_excess. Realtime mode with \"gi\": true.",
   "properties": {
     "name": {
       "const": "light_leak"
@@ -204,7 +230,13 @@ constexpr const char* kSchema = R"json({
     "max_excess": {
       "type": "number",
       "minimum": 0,
-      "description": "Largest allowed excess of realtime over reference energy in the shadowed region, beyond 3 sigma of noise (default 0.1)."
+      "description": "Largest allowed excess of realtime over reference energy in the shadowed region, beyond the noise margin (default 0.1): the fixed pipeline's own excess in the scene, taken from its mean over seeds."
+    },
+    "chains": {
+      "type": "integer",
+      "minimum": 3,
+      "maximum": 16,
+      "description": "Independent chains, each a pipeline of its own (default 8: Student's t with 7 degrees of freedom puts the margin at 1.6 sigma of one chain; with 4 it would be 4.6); the energy sigma comes from their spread."
     }
   }
 })json";

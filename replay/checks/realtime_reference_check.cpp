@@ -28,9 +28,10 @@ Comparison single_chain(const Image& a, const Image& b, const ReferenceCompariso
 
 }  // namespace
 
-Image chain_average(const Image& a, const Image& b) {
-  Image m(a.width, a.height);
-  for (std::size_t i = 0; i < a.size(); ++i) m.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+Image chain_average(const std::vector<Image>& chains) {
+  Image m(chains.at(0).width, chains[0].height);
+  for (std::size_t i = 0; i < m.size(); ++i)
+    for (const Image& c : chains) m.pixels[i] += c.pixels[i] / float(chains.size());
   return m;
 }
 
@@ -68,11 +69,7 @@ void RealtimeReferenceCheck::compare_frame(std::uint32_t frame, const Scene& sce
   f.full_gi = gpu.full_gi;
   f.chains = std::uint32_t(gpu.means.size());
   const Comparison chains = compare_chains(gpu.means, ref.mean, ref.half_a, ref.half_b);
-  Image mean = gpu.means[0];
-  for (std::size_t i = 0; i < mean.size(); ++i) {
-    mean.pixels[i] = glm::vec3(0.0f);
-    for (const Image& m : gpu.means) mean.pixels[i] += m.pixels[i] / float(gpu.means.size());
-  }
+  const Image mean = chain_average(gpu.means);
   // Two chains: the energy σ summed over pixels (many degrees of freedom, no
   // image-wide error); more: the chains' own spread.
   f.temporal = f.chains >= 3 ? chains : compare(mean, gpu.means[0], gpu.means[1], ref.mean, ref.half_a, ref.half_b);

@@ -50,8 +50,9 @@ struct RealtimeEstimate {
 // 7×7 neighbourhood in the reference spans a luminance ratio above 2.
 double edge_region_relmse(const Image& x, const Image& reference);
 
-// The mean of two chains' images, pixel by pixel.
-Image chain_average(const Image& a, const Image& b);
+// The mean of chains' images, pixel by pixel.
+Image chain_average(const std::vector<Image>& chains);
+inline Image chain_average(const Image& a, const Image& b) { return chain_average(std::vector<Image>{a, b}); }
 
 class RealtimeReferenceCheck : public ReferenceComparisons {
  public:
