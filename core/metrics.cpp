@@ -185,6 +185,10 @@ Comparison compare(const Image& x_mean, const Image& x_half_a, const Image& x_ha
   return c;
 }
 
+double Comparison::noise_margin(std::uint32_t dof) {
+  return dof == 0 ? kNoiseMargin : student_t_quantile(0.5 + std::erf(kNoiseMargin / std::sqrt(2.0)) / 2.0, dof);
+}
+
 ComparisonVerdict Comparison::judge(double noise_factor, double energy_tolerance, double relmse_tolerance) const {
   ComparisonVerdict v;
   const double rel_tol = std::max(relmse_tolerance, 0.0);
@@ -202,9 +206,7 @@ ComparisonVerdict Comparison::judge(double noise_factor, double energy_tolerance
   }
   // The margin of the same two-sided false-alarm rate as kNoiseMargin σ of a
   // normal, for an energy σ estimated with energy_dof degrees of freedom.
-  const double margin = energy_dof == 0 ? kNoiseMargin
-                                        : student_t_quantile(0.5 + std::erf(kNoiseMargin / std::sqrt(2.0)) / 2.0,
-                                                             energy_dof);
+  const double margin = noise_margin(energy_dof);
   if (!(energy_error <= energy_tolerance + margin * energy_ratio_sigma)) {
     v.reason = "energy ratio " + fmt(energy_ratio) + " off by more than " + fmt(energy_tolerance) + " + " +
                fmt(margin) + " sigma (" + fmt(energy_ratio_sigma) +

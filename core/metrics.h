@@ -98,6 +98,10 @@ struct Comparison {
   bool inconclusive(double noise_factor, double energy_tolerance) const {
     return judge(noise_factor, energy_tolerance).inconclusive;
   }
+  // The margin, in σ, with the tail probability of kNoiseMargin σ of a
+  // normal (0.135 % one-sided, 0.27 % two-sided) for a σ estimated with
+  // `dof` degrees of freedom: Student's t quantile (0: kNoiseMargin itself).
+  static double noise_margin(std::uint32_t dof);
 };
 
 // x given as K ≥ 2 independent chains' images (x = their mean): x's noise

@@ -96,6 +96,12 @@ TEST(ChainNoise, TheEnergyMarginIsTheTQuantileOfTheChainsDegreesOfFreedom) {
   const ComparisonVerdict v = c.judge(1e9, 0.05);
   EXPECT_FALSE(v.passed);
   EXPECT_TRUE(v.inconclusive) << v.reason;
+  // The margins light_leak and the reference check share: 3 for a normal,
+  // t's quantile of the same tail for 3, 7 and 15 degrees of freedom.
+  EXPECT_EQ(Comparison::noise_margin(0), 3.0);
+  EXPECT_NEAR(Comparison::noise_margin(3), 9.22, 0.01);
+  EXPECT_NEAR(Comparison::noise_margin(7), 4.53, 0.01);
+  EXPECT_NEAR(Comparison::noise_margin(15), 3.59, 0.01);
 }
 
 TEST(ChainNoise, ChainSeedsDifferFromEachOtherAndFromTheRunsSeed) {

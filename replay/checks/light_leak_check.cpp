@@ -25,7 +25,6 @@
 // often. `max_excess` is the pipeline's own excess in the scene, which a
 // scenario takes from its measured mean over seeds, not one seed's figure.
 #include <algorithm>
-#include <cmath>
 
 #include <fmt/format.h>
 
@@ -84,12 +83,6 @@ LeakParams leak_params(const CheckContext& c) {
   return p;
 }
 
-// The one-sided margin of a 0.135 % false-alarm rate (3 σ of a normal) for
-// a σ estimated with `dof` degrees of freedom.
-double one_sided_margin(std::uint32_t dof) {
-  return student_t_quantile(0.5 + std::erf(Comparison::kNoiseMargin / std::sqrt(2.0)) / 2.0, dof);
-}
-
 struct LeakFrame {
   std::uint32_t frame = 0, window_frames = 0;
   std::size_t pixels = 0;
@@ -130,7 +123,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     l.pixels = pixels;
     l.energy_ratio = c.energy_ratio;
     l.sigma = c.energy_ratio_sigma;
-    l.limit = 1.0 + leak_.max_excess + one_sided_margin(c.energy_dof) * c.energy_ratio_sigma;
+    l.limit = 1.0 + leak_.max_excess + Comparison::noise_margin(c.energy_dof) * c.energy_ratio_sigma;
     l.whole_image_ratio = whole.energy_ratio;
     l.leaks = pixels > 0 && c.energy_ratio > l.limit;
     const Image mean = chain_average(means);
