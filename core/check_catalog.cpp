@@ -15,7 +15,22 @@ std::vector<CheckDeclaration>& catalog() {
   return declarations;
 }
 
+// The model in words, as the schema's description ends.
+std::string model_text(const CheckModel& m) {
+  return "Statistical model (" + std::string(to_string(m.basis)) + "): estimates " + m.estimates + ". Noise: " + m.noise +
+         ". False-alarm rate: " + m.false_alarm + ".";
+}
+
 }  // namespace
+
+const char* to_string(CheckModel::Basis basis) {
+  switch (basis) {
+    case CheckModel::Basis::exact: return "exact";
+    case CheckModel::Basis::derived: return "derived";
+    case CheckModel::Basis::measured: return "measured";
+  }
+  return "measured";
+}
 
 void declare_check(CheckDeclaration declaration) {
   std::vector<CheckDeclaration>& c = catalog();
@@ -24,6 +39,10 @@ void declare_check(CheckDeclaration declaration) {
   if (!schema.is_object() || !schema.contains("properties") || !schema["properties"].is_object() ||
       !schema["properties"].contains("name"))
     throw std::logic_error("check " + declaration.name + ": its schema is not an object schema with a \"name\" property");
+  const CheckModel& m = declaration.model;
+  if (m.estimates.empty() || m.noise.empty() || m.false_alarm.empty() || !(m.false_alarm_rate >= 0.0 && m.false_alarm_rate < 1.0) ||
+      (m.basis == CheckModel::Basis::exact) != (m.false_alarm_rate == 0.0))
+    throw std::logic_error("check " + declaration.name + ": its statistical model is not stated (CheckModel)");
   declaration.keys.clear();
   for (const auto& [key, value] : schema["properties"].items()) declaration.keys.push_back(key);
   const auto at = std::lower_bound(c.begin(), c.end(), declaration.name,
@@ -56,8 +75,12 @@ nlohmann::ordered_json with_declared_checks(nlohmann::ordered_json schema) {
   nlohmann::ordered_json& check = kept["check"];
   check["properties"]["name"]["enum"] = names;
   check["allOf"] = by_name;
-  for (const CheckDeclaration& d : declared_checks())
-    kept["check_" + d.name] = nlohmann::ordered_json::parse(d.schema);
+  for (const CheckDeclaration& d : declared_checks()) {
+    nlohmann::ordered_json c = nlohmann::ordered_json::parse(d.schema);
+    const std::string own = c.value("description", "");
+    c["description"] = own.empty() ? model_text(d.model) : own + " " + model_text(d.model);
+    kept["check_" + d.name] = std::move(c);
+  }
   defs = kept;
   return schema;
 }

@@ -222,7 +222,19 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<CacheIntegrityPlugin> kRegistration{{"cache_integrity", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "for every live world-cache cell, whether its checksum, probe position and uniqueness follow from"
+    " its stored query point with the shaders' own maths",
+    "none: an exact recomputation; which cells exist moves with the seed, but each must satisfy the "
+    "rules",
+    CheckModel::Basis::exact,
+    0.0,
+    "0 on frames it judges (the camera has not moved since the cell was made; others are reported as "
+    "not testable)"};
+
+const RegisteredCheck<CacheIntegrityPlugin> kRegistration{{"cache_integrity", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -30,6 +30,9 @@ struct CheckResult {
   std::vector<std::string> evidence;    // files (relative to the run's out dir) that show it
 
   bool passed() const { return verdict == Verdict::pass; }
+  // `limits` with the declared check's false-alarm rate (CheckModel) added:
+  // every summary, report and JUnit case states the rate of its verdict.
+  nlohmann::json stated_limits() const;
   nlohmann::json to_json() const;
 };
 

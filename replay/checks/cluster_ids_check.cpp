@@ -274,7 +274,17 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<ClusterIdsPlugin> kRegistration{{"cluster_ids", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the cluster IDs the visible instances own after each spawn (an exact sum) and the pixels whose "
+    "decoded ID disagrees with the instance channel (a count)",
+    "none: both are integer counts that do not depend on the seed",
+    CheckModel::Basis::exact,
+    0.0,
+    "0: the sum is the same at every seed, and a correct packing decodes every pixel"};
+
+const RegisteredCheck<ClusterIdsPlugin> kRegistration{{"cluster_ids", kSchema, kModel, {}}};
 
 }  // namespace
 

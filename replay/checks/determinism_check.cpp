@@ -215,7 +215,17 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<DeterminismPlugin> kRegistration{{"determinism", kSchema, {}, true}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "whether a second run and a replay from a mid-run snapshot give every recorded buffer's hash, "
+    "frame by frame, bit for bit",
+    "none: a bit comparison; the seed fixes every random stream",
+    CheckModel::Basis::exact,
+    0.0,
+    "0: a differing bit is a finding on every device class the project supports"};
+
+const RegisteredCheck<DeterminismPlugin> kRegistration{{"determinism", kSchema, kModel, {}, true}};
 
 }  // namespace
 

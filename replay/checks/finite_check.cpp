@@ -79,7 +79,17 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<FiniteCheck> kRegistration{{"finite", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "whether any output pixel, reference-mode sample, GI reservoir or GI/specular output is NaN or "
+    "inf (integer counters kept on the GPU)",
+    "none: a count, and a correct pipeline produces no non-finite value at any seed",
+    CheckModel::Basis::exact,
+    0.0,
+    "0: any non-finite value is a finding, never noise"};
+
+const RegisteredCheck<FiniteCheck> kRegistration{{"finite", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -223,7 +223,17 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<FurnaceCheck> kRegistration{{"furnace", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the directional albedo of the profile's BRDF over perceptual roughness x metallic x n.v, by "
+    "quadrature of the shaders' own BRDF code",
+    "none: a deterministic quadrature that draws no random number",
+    CheckModel::Basis::exact,
+    0.0,
+    "0: the figure is the same at every seed"};
+
+const RegisteredCheck<FurnaceCheck> kRegistration{{"furnace", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -129,7 +129,18 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<LuminanceRangeCheck> kRegistration{{"luminance_range", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the output's mean luminance on each judged frame",
+    "none modelled: min and max are the scenario's plausibility bounds, set far outside the "
+    "frame-to-frame spread of its fixed pipeline",
+    CheckModel::Basis::measured,
+    0.00135,
+    "at most 0.135 % where the bounds are at least 3 sd of the per-frame mean from the fixed "
+    "pipeline's level"};
+
+const RegisteredCheck<LuminanceRangeCheck> kRegistration{{"luminance_range", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -231,7 +231,6 @@ class MotionCheck final : public Check, ReferenceComparisons {
     r.name = "motion";
     r.limits = {{"tolerance", motion_.tolerance},
                 {"z", kZ},
-                {"false_alarm_rate", "0.1 % per test when the true bias relMSE is at most the tolerance"},
                 {"spp", params_.spp},
                 {"block_pixels", kBlock}};
     if (motion_.disocclusion_tolerance) r.limits["disocclusion_tolerance"] = *motion_.disocclusion_tolerance;
@@ -297,7 +296,7 @@ class MotionCheck final : public Check, ReferenceComparisons {
 constexpr const char* kSchema = R"json({
   "type": "object",
   "additionalProperties": false,
-  "description": "The realtime image while the camera or an object moves, against Embree's image of each judged frame's camera and scene (direct light; with \"gi\": true the full path tracer). Model: per pixel and channel e = [(x - r)^2 - (A - B)^2/4 - (r_a - r_b)^2/4] / (r^2 + 0.01), x the mean of two chains A and B that share no state, r the reference with halves r_a, r_b; E[e] is the squared bias (relMSE's scale), the per-frame noise removed. Units: 8x8-pixel blocks of each judged frame; the check fails when their mean (the bias relMSE) exceeds tolerance + 3.09 standard errors: a false-alarm rate of 0.1 % when the pipeline's true bias is at most the tolerance. The same estimate over the pixels the previous frame did not see (disocclusions) is reported, and judged with disocclusion_tolerance.",
+  "description": "The realtime image while the camera or an object moves, against Embree's image of each judged frame's camera and scene (direct light; with \"gi\": true the full path tracer). Per pixel and channel e = [(x - r)^2 - (A - B)^2/4 - (r_a - r_b)^2/4] / (r^2 + 0.01), x the mean of two chains A and B that share no state, r the reference with halves r_a, r_b; E[e] is the squared bias (relMSE's scale), the per-frame noise removed. Units: 8x8-pixel blocks of each judged frame; the check fails when their mean (the bias relMSE) exceeds tolerance + 3.09 standard errors. The same estimate over the pixels the previous frame did not see (disocclusions) is reported, and judged with disocclusion_tolerance.",
   "properties": {
     "name": {
       "const": "motion"
@@ -348,7 +347,20 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<MotionCheck> kRegistration{{"motion", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the bias relMSE of two independent chains' mean against Embree at each judged frame's camera and"
+    " scene, per-frame noise removed ([(x - r)^2 - (A - B)^2/4 - (r_a - r_b)^2/4] / (r^2 + 0.01) per "
+    "pixel), and the same over disoccluded pixels",
+    "the standard error over 8x8-pixel blocks of the judged frames (noise shared by nearby pixels "
+    "counts once)",
+    CheckModel::Basis::derived,
+    0.001,
+    "one-sided 0.1 % per test (tolerance + 3.09 SE, normal over at least 50 blocks) when the true "
+    "bias is at most the tolerance"};
+
+const RegisteredCheck<MotionCheck> kRegistration{{"motion", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

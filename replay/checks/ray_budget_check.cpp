@@ -98,7 +98,19 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<RayBudgetCheck> kRegistration{{"ray_budget", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the mean closest-hit rays per glossy path over the judged frames (integer counts; Russian "
+    "roulette makes the mean seed-dependent)",
+    "the mean's spread over seeds, measured: 1.498 (sd 0.0022) in specular_ray_budget_mirror at 10 "
+    "seeds on an H100, budget 1.6",
+    CheckModel::Basis::measured,
+    0.00135,
+    "at most 0.135 % (the limit is at least 3 sd from the fixed pipeline's mean; 46 sd where "
+    "measured)"};
+
+const RegisteredCheck<RayBudgetCheck> kRegistration{{"ray_budget", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

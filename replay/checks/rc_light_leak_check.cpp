@@ -54,10 +54,20 @@ class RcLightLeakCheck final : public RcFrameCheck {
   double max_leak_ = 0.05;
 };
 
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the excess of the output's mean over the reference's in the shadowed region, as a fraction of "
+    "the canvas's mean",
+    "the reference's standard deviation in the region, from its two half estimates",
+    CheckModel::Basis::derived,
+    0.00135,
+    "one-sided 0.135 % (max_leak + 3 sigma of a normal)"};
+
 const RegisteredCheck<RcLightLeakCheck> kRegistration{{"rc_light_leak",
     rc_check_schema("rc_light_leak", R"j("region": {"type": "array", "minItems": 4, "maxItems": 4, "items": {"type": "integer", "minimum": 0}, "description": "[x0, y0, x1, y1]: the shadowed side, pixels (required)"},
     "max_leak": {"type": "number", "minimum": 0, "description": "largest excess of the region's mean over the reference's, as a fraction of the canvas's mean (default 0.05)"})j"),
-    {}}};
+    kModel, {}}};
 
 }  // namespace
 }  // namespace gi

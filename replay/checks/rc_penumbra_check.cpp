@@ -90,11 +90,23 @@ class RcPenumbraCheck final : public RcFrameCheck {
   std::string across_ = "y";
 };
 
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the share of the reference's shadow detail the output reproduces (regression slope of output on "
+    "reference across the detail)",
+    "the reference's noise variance, subtracted from its detail; inconclusive where the detail is "
+    "within 3 times it",
+    CheckModel::Basis::derived,
+    0.00135,
+    "one-sided 0.135 % where the reference's noise is what moves the figure (the cascades are "
+    "deterministic); the output's figure is the same at every seed"};
+
 const RegisteredCheck<RcPenumbraCheck> kRegistration{{"rc_penumbra",
     rc_check_schema("rc_penumbra", R"j("region": {"type": "array", "minItems": 4, "maxItems": 4, "items": {"type": "integer", "minimum": 0}, "description": "[x0, y0, x1, y1]: where the reference shows shadow detail, pixels (required)"},
     "min_kept": {"type": "number", "minimum": 0, "maximum": 1, "description": "smallest share of the reference's shadow detail the output reproduces (default 0.6)"},
     "across": {"enum": ["x", "y"], "description": "the axis the detail varies along (default y: horizontal stripes)"})j"),
-    {}}};
+    kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -45,9 +45,21 @@ class RcReferenceCheck final : public RcFrameCheck {
   double max_error_ = 0.25;
 };
 
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the relative L1 error of the radiance-cascades output against the 2D path tracer outside the "
+    "shapes",
+    "the reference's own noise there, from its two half estimates; the cascades themselves draw no "
+    "random number",
+    CheckModel::Basis::derived,
+    0.00135,
+    "one-sided 0.135 % (max_error + 3 sigma of a normal); inconclusive where the noise alone is a "
+    "third of the limit"};
+
 const RegisteredCheck<RcReferenceCheck> kRegistration{{"rc_reference",
     rc_check_schema("rc_reference", R"j("max_error": {"type": "number", "minimum": 0, "description": "largest sum of |output - reference| over the reference's sum, outside the shapes (default 0.25)"})j"),
-    {}}};
+    kModel, {}}};
 
 }  // namespace
 }  // namespace gi

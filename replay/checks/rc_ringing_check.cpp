@@ -134,11 +134,20 @@ class RcRingingCheck final : public RcFrameCheck {
   std::uint32_t window_ = 2;
 };
 
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the swing of the output/reference ratio over rings around an emitter",
+    "the reference's standard deviation in the two rings that set the swing",
+    CheckModel::Basis::derived,
+    0.00135,
+    "one-sided 0.135 % (max_swing + 3 sigma of a normal)"};
+
 const RegisteredCheck<RcRingingCheck> kRegistration{{"rc_ringing",
     rc_check_schema("rc_ringing", R"j("around": {"type": "string", "description": "the emitting shape whose rings are measured (default: the only emitter)"},
     "max_swing": {"type": "number", "minimum": 0, "description": "largest difference between the highest and lowest output/reference ratio of the rings (default 0.1)"},
     "window": {"type": "integer", "minimum": 1, "description": "width of each ring, pixels (default 2)"})j"),
-    {}}};
+    kModel, {}}};
 
 }  // namespace
 }  // namespace gi

@@ -331,9 +331,24 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the relMSE and the energy ratio of the realtime temporal mean of K independent chains (or the "
+    "reference mode's image) against the Embree path tracer",
+    "relMSE: its expected value from noise, from the chains' (or the two halves') spread per pixel; "
+    "energy: with K >= 3 chains the spread of their mean luminances / sqrt(K) (K - 1 degrees of "
+    "freedom), with 2 chains or halves a sigma summed over pixels taken as independent, which is too "
+    "small where the chains share an image-wide error (docs/statistics.md)",
+    CheckModel::Basis::derived,
+    0.0027,
+    "energy: two-sided 0.27 % (3 sigma of a normal; Student's t with K - 1 degrees of freedom for K "
+    ">= 3); relMSE: below relmse_noise_factor times its noise level plus relmse_tolerance"};
+
 const CheckRegistration kRegistration{
     {"reference",
      kSchema,
+     kModel,
      validate_reference_params},
     [](const CheckContext& c) -> std::unique_ptr<Check> {
       if (c.realtime) return std::make_unique<RealtimeReferencePlugin>(c);

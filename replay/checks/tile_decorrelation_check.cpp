@@ -168,7 +168,19 @@ constexpr const char* kSchema = R"json({
   }
 })json";
 
-const RegisteredCheck<TileDecorrelationPlugin> kRegistration{{"tile_decorrelation", kSchema, {}}};
+// What the verdict's figure estimates, the noise its limit allows for and
+// how often that limit fails a pipeline without the bug (CheckModel).
+const CheckModel kModel{
+    "the largest share of one light tile's samples (light, triangle, random seed, validity) found in "
+    "any one tile of the frame before",
+    "independent draws repeat a sample only if its 32-bit random seed repeats with the same light and"
+    " triangle",
+    CheckModel::Basis::derived,
+    1e-12,
+    "below 1e-12: max_overlap is at least 5 % of a tile, and a chance repetition of that many 32-bit "
+    "seeds has a negligible probability (0.00 % overlap at 10 seeds)"};
+
+const RegisteredCheck<TileDecorrelationPlugin> kRegistration{{"tile_decorrelation", kSchema, kModel, {}}};
 
 }  // namespace
 }  // namespace gi

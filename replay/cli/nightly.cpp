@@ -149,7 +149,7 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
       row["checks"].push_back({{"name", c.name},
                                {"verdict", to_string(c.verdict)},
                                {"message", c.message},
-                               {"limits", c.limits},
+                               {"limits", c.stated_limits()},
                                {"first_failing_frame", c.first_failing_frame ? nlohmann::json(*c.first_failing_frame)
                                                                              : nlohmann::json(nullptr)}});
     // Where to start debugging: `giharness replay <out>/<capture>` (paths relative to the suite's out).
