@@ -14,6 +14,7 @@
 #include "core/shared/dfg_lut.h"
 #include "gpu/buffer.h"
 #include "gpu/device.h"
+#include "gpu/pipeline_cache.h"
 #include "gpu/shaders/bindings.h"
 
 namespace gi::gpu {
@@ -114,51 +115,12 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
       if (b.binding == BINDING_PREVIOUS_SCENE) b.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   }
   try {
-    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    smci.codeSize = spirv.size_bytes();
-    smci.pCode = spirv.data();
-    check_vk(vkCreateShaderModule(device_, &smci, nullptr, &module_), "vkCreateShaderModule");
-
-    std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+    const SharedPipeline& shared = device.pipelines().get(name_, spirv, bindings_, push_bytes_);
+    set_layout_ = shared.set_layout;
+    layout_ = shared.layout;
+    pipeline_ = shared.pipeline;
     std::map<VkDescriptorType, std::uint32_t> counts;
-    for (const auto& b : bindings_) {
-      VkDescriptorSetLayoutBinding lb{};
-      lb.binding = b.binding;
-      lb.descriptorType = b.type;
-      lb.descriptorCount = 1;
-      lb.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-      layout_bindings.push_back(lb);
-      ++counts[b.type];
-    }
-    VkDescriptorSetLayoutCreateInfo dslci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dslci.bindingCount = std::uint32_t(layout_bindings.size());
-    dslci.pBindings = layout_bindings.data();
-    check_vk(vkCreateDescriptorSetLayout(device_, &dslci, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
-
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &set_layout_;
-    plci.pushConstantRangeCount = push_bytes_ ? 1 : 0;
-    plci.pPushConstantRanges = &range;
-    check_vk(vkCreatePipelineLayout(device_, &plci, nullptr, &layout_), "vkCreatePipelineLayout");
-
-    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module_;
-    cpci.stage.pName = "main";
-    cpci.layout = layout_;
-    const auto compile_start = std::chrono::steady_clock::now();
-    VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline_);
-    // The driver's compile, cached by the driver, not by us. lavapipe defers
-    // its LLVM compile to the first dispatch: a variant new to its cache costs
-    // there, up to minutes for the GI passes (README "Tests").
-    spdlog::debug("pass '{}': pipeline created in {:.0f} ms", name_,
-                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - compile_start).count());
-    if (r != VK_SUCCESS)
-      throw DeviceError(fmt::format("Vulkan: pass '{}': vkCreateComputePipelines failed: {}", name_,
-                                    vk_result_name(r)));
+    for (const auto& b : bindings_) ++counts[b.type];
 
     std::vector<VkDescriptorPoolSize> sizes;
     for (const auto& [type, n] : counts) sizes.push_back({type, n});
@@ -180,16 +142,12 @@ ComputePass::ComputePass(Device& device, std::string name, std::span<const std::
 
 void ComputePass::destroy() noexcept {
   if (!device_) return;
+  // The pipeline and its layouts are the device's (PipelineCache).
   if (pool_) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
-  if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
-  if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
-  if (module_) vkDestroyShaderModule(device_, module_, nullptr);
   pool_ = VK_NULL_HANDLE;
   pipeline_ = VK_NULL_HANDLE;
   layout_ = VK_NULL_HANDLE;
   set_layout_ = VK_NULL_HANDLE;
-  module_ = VK_NULL_HANDLE;
   set_ = VK_NULL_HANDLE;
 }
 
@@ -204,7 +162,6 @@ ComputePass& ComputePass::operator=(ComputePass&& other) noexcept {
     name_ = std::move(other.name_);
     bindings_ = std::move(other.bindings_);
     push_bytes_ = other.push_bytes_;
-    module_ = std::exchange(other.module_, VK_NULL_HANDLE);
     set_layout_ = std::exchange(other.set_layout_, VK_NULL_HANDLE);
     layout_ = std::exchange(other.layout_, VK_NULL_HANDLE);
     pipeline_ = std::exchange(other.pipeline_, VK_NULL_HANDLE);

@@ -93,7 +93,8 @@ class ComputePass {
   std::string name_;
   std::vector<DescriptorBinding> bindings_;
   std::uint32_t push_bytes_ = 0;
-  VkShaderModule module_ = VK_NULL_HANDLE;
+  // Shared with every pass of the device that has the same SPIR-V, bindings
+  // and push constants (gpu/pipeline_cache.h); the descriptor set is this pass's.
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;

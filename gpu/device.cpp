@@ -13,6 +13,7 @@
 
 #include "core/errors.h"
 #include "gpu/buffer.h"
+#include "gpu/pipeline_cache.h"
 
 namespace gi::gpu {
 
@@ -388,6 +389,7 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     check_vk(vkCreateCommandPool(device_, &pci, nullptr, &pool_), "vkCreateCommandPool");
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     check_vk(vkCreateFence(device_, &fci, nullptr, &fence_), "vkCreateFence");
+    pipelines_ = std::make_unique<PipelineCache>(device_);
   } catch (...) {
     destroy();
     throw;
@@ -401,6 +403,7 @@ void Device::destroy() noexcept {
     if (in_flight_) vkFreeCommandBuffers(device_, pool_, 1, &in_flight_);
     in_flight_ = VK_NULL_HANDLE;
     staging_.reset();
+    pipelines_.reset();
     if (fence_) vkDestroyFence(device_, fence_, nullptr);
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
@@ -435,6 +438,7 @@ Device& Device::operator=(Device&& other) noexcept {
     staged_buffers_ = other.staged_buffers_;
     staging_ = std::move(other.staging_);
     transfers_ = other.transfers_;
+    pipelines_ = std::move(other.pipelines_);
     in_flight_ = std::exchange(other.in_flight_, VK_NULL_HANDLE);
   }
   return *this;

@@ -15,6 +15,8 @@
 
 namespace gi::gpu {
 
+class PipelineCache;
+
 // Throws gi::DeviceError naming the call and the VkResult unless result is VK_SUCCESS.
 void check_vk(VkResult result, const char* what);
 const char* vk_result_name(VkResult result);
@@ -113,6 +115,8 @@ class Device {
     std::uint64_t downloaded = 0, uploaded = 0, downloads = 0, uploads = 0;
   };
   const TransferCounts& transfers() const { return transfers_; }
+  // Compute pipelines shared by this device's passes (gpu/pipeline_cache.h).
+  PipelineCache& pipelines() { return *pipelines_; }
   void count_transfer(bool download, std::uint64_t bytes) {
     (download ? transfers_.downloaded : transfers_.uploaded) += bytes;
     ++(download ? transfers_.downloads : transfers_.uploads);
@@ -158,6 +162,7 @@ class Device {
   VkCommandBuffer in_flight_ = VK_NULL_HANDLE;  // submitted, not yet waited for
   std::unique_ptr<Buffer> staging_;
   TransferCounts transfers_;
+  std::unique_ptr<PipelineCache> pipelines_;
 };
 
 }  // namespace gi::gpu
