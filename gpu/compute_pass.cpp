@@ -1,7 +1,6 @@
 #include "gpu/compute_pass.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <map>

@@ -1,7 +1,7 @@
 #include "gpu/pipeline_cache.h"
 
+#include <algorithm>
 #include <chrono>
-#include <map>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

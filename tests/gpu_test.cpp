@@ -17,7 +17,9 @@
 #include "core/errors.h"
 #include "core/scene_flatten.h"
 #include "core/scenes/cornell_box.h"
+#include "gpu/compute_pass.h"
 #include "gpu/device.h"
+#include "gpu/pipeline_cache.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/shaders/bindings.h"
@@ -26,7 +28,10 @@
 namespace {
 
 namespace fs = std::filesystem;
+using gi::gpu::ComputePass;
+using gi::gpu::DescriptorBinding;
 using gi::gpu::Device;
+using gi::gpu::PipelineCache;
 using gi::gpu::Renderer;
 using gi::gpu::RendererOptions;
 using gi::gpu::ShaderCompiler;
@@ -201,6 +206,38 @@ TEST_F(Gpu, CompileErrorNamesTheDefines) {
 // Every pixel's hit agrees with a brute-force double-precision ray caster:
 // same instance and primitive, |Δt|/t < 1e-4. A pixel whose ray passes within
 // 1e-6 of a second triangle (a shared edge) may report either.
+// Passes of one device with the same SPIR-V, bindings and push constants
+// share one pipeline (gpu/pipeline_cache.h): the chains of a run create each
+// pipeline once. Another define, binding set or push-constant size is a
+// pipeline of its own; a pass destroyed leaves the shared one usable.
+TEST_F(Gpu, PassesWithTheSameShaderShareOnePipeline) {
+  ShaderCompiler compiler(fs::path(::testing::TempDir()) / "giharness-gpu-test-cache");
+  const std::string src = R"(#version 460
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer O { uint o[]; };
+void main() { o[gl_GlobalInvocationID.x] = VALUE; }
+)";
+  const auto one = compiler.compile_source(src, "tests/shared_pipeline.comp", {{"VALUE", "1u"}});
+  const auto two = compiler.compile_source(src, "tests/shared_pipeline.comp", {{"VALUE", "2u"}});
+  const std::vector<DescriptorBinding> storage = {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+  PipelineCache& cache = device_->pipelines();
+  const std::size_t before = cache.size();
+  {
+    ComputePass a(*device_, "a", one.spirv, storage);
+    EXPECT_EQ(cache.size(), before + 1);
+    ComputePass b(*device_, "b", one.spirv, storage);  // another chain's pass
+    EXPECT_EQ(cache.size(), before + 1);
+  }
+  ComputePass again(*device_, "again", one.spirv, storage);  // after both are gone
+  EXPECT_EQ(cache.size(), before + 1);
+  ComputePass other_define(*device_, "c", two.spirv, storage);
+  EXPECT_EQ(cache.size(), before + 2);
+  ComputePass other_push(*device_, "d", one.spirv, storage, 16);
+  EXPECT_EQ(cache.size(), before + 3);
+  ComputePass other_binding(*device_, "e", one.spirv, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}});
+  EXPECT_EQ(cache.size(), before + 4);
+}
+
 TEST_F(Gpu, PrimaryVisibilityMatchesCpuRayCaster) {
   CornellSetup s;
   const std::uint32_t W = 64, H = 64;
