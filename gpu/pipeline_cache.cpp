@@ -8,6 +8,7 @@
 #include <xxhash.h>
 
 #include "core/errors.h"
+#include "core/phase_clock.h"
 #include "gpu/compute_pass.h"
 #include "gpu/device.h"
 
@@ -46,6 +47,7 @@ const SharedPipeline& PipelineCache::get(const std::string& name, std::span<cons
 SharedPipeline PipelineCache::create(const std::string& name, std::span<const std::uint32_t> spirv,
                                      const std::vector<DescriptorBinding>& bindings,
                                      std::uint32_t push_constant_bytes) const {
+  const PhaseScope timed(phase::kPipelines);
   SharedPipeline p;
   try {
     VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

@@ -20,6 +20,7 @@
 #include "core/cache_root.h"
 #include "core/data_dir.h"
 #include "core/errors.h"
+#include "core/phase_clock.h"
 
 namespace gi::gpu {
 
@@ -144,6 +145,7 @@ CompiledShader ShaderCompiler::compile_file(const fs::path& path, const std::vec
 
 CompiledShader ShaderCompiler::compile_source(const std::string& source, const std::string& name_in,
                                               const std::vector<ShaderDefine>& own_defines) {
+  const PhaseScope timed(phase::kShaderSources);
   std::vector<ShaderDefine> defines = global_defines_;
   defines.insert(defines.end(), own_defines.begin(), own_defines.end());
   const fs::path& root = data_dir();

@@ -8,6 +8,7 @@
 
 #include "core/cache_root.h"
 #include "core/errors.h"
+#include "core/phase_clock.h"
 #include "core/metrics.h"
 #include "replay/capture.h"
 #include "replay/events.h"
@@ -276,6 +277,7 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
 // can_defer allows, during the next frame's rendering. The GPU then waits
 // for the host only for events, recording and the frames that read buffers.
 void FrameLoop::run() {
+  const PhaseScope timed(phase::kFrames);
   const std::uint32_t width = setup_.width, height = setup_.height;
   std::optional<Taken> deferred;
   // On a CPU device the passes run on this process's threads: how long they

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/phase_clock.h"
 #include "core/exr_io.h"
 #include "core/json_input.h"
 #include "core/profile.h"
@@ -25,6 +26,7 @@
 #include "replay/checks/check_registry.h"
 #include "replay/frame_log.h"
 #include "replay/run_summary.h"
+#include "replay/wall_breakdown.h"
 #include "reports/change.h"
 #include "reports/summary.h"
 
@@ -164,6 +166,8 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<std::string> image_hashes;
   std::optional<std::uint64_t> uploaded;
   Image last;
+  std::optional<PhaseScope> frames_timed;
+  frames_timed.emplace(phase::kFrames);
   for (std::uint32_t f = first_frame; f < frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     const Canvas canvas = canvas_at_frame(initial, scenario, f);
@@ -204,6 +208,7 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
     wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     log.add(record);
   }
+  frames_timed.reset();
 
   // Each capture keeps the run's frame hashes, for a replay's --verify.
   if (options.resume_from.empty())
@@ -270,8 +275,11 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
                          {"frame", first_frame},
                          {"captured_image_hash", resumed_hash},
                          {"same_bits", !image_hashes.empty() && image_hashes.front() == resumed_hash}};
-  s["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  s["wall_seconds"] = wall;
+  s["wall_breakdown"] = wall_breakdown(wall, s["frames"]);
   write_json_file(options.out_dir / "summary.json", s);
+  spdlog::info("{}: {}", scenario.name, wall_breakdown_line(s["wall_breakdown"]));
   for (const CheckResult& c : result.checks)
     spdlog::log(c.passed() ? spdlog::level::info : spdlog::level::err, "{}: check {} {}: {}", scenario.name, c.name,
                 to_string(c.verdict), c.message);

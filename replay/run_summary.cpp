@@ -2,6 +2,8 @@
 
 #include <map>
 
+#include <spdlog/spdlog.h>
+
 #include "core/atomic_file.h"
 #include "core/exr_io.h"
 #include "core/shared/word_hash.h"
@@ -14,6 +16,7 @@
 #include "core/reference/reference_cache.h"
 #include "core/cache_root.h"
 #include "replay/signal_figures.h"
+#include "replay/wall_breakdown.h"
 
 namespace gi {
 
@@ -205,8 +208,11 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   if (run.loop.hash_log_written()) s["hash_log"] = "buffer_hashes.jsonl";
   if (!run.options.resume_from.empty())
     s["resumed_from"] = {{"capture", run.options.resume_from.string()}, {"frame", run.loop.first_frame() - 1}};
-  s["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - run.started).count());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.started).count();
+  s["wall_seconds"] = json_figure(wall);
+  s["wall_breakdown"] = wall_breakdown(wall, s["frames"]);
   write_json_file(run.options.out_dir / "summary.json", s);
+  spdlog::info("{}: {}", scenario.name, wall_breakdown_line(s["wall_breakdown"]));
 }
 
 }  // namespace gi

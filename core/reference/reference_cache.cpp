@@ -15,6 +15,7 @@
 #include <xxhash.h>
 
 #include "core/exr_io.h"
+#include "core/phase_clock.h"
 #include "core/reference/reference_sources_hash.h"  // generated: core/reference/sources_hash.cmake
 #include "core/scene_flatten.h"
 
@@ -131,6 +132,7 @@ std::uint64_t reference_cache_key(const Scene& scene, const ReferenceOptions& o)
 
 ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, const std::filesystem::path& cache_dir,
                                  bool* hit) {
+  const PhaseScope timed(phase::kReferences);
   if (hit) *hit = false;
   const std::string& version = reference_integrator_version();
 

@@ -1,15 +1,43 @@
 # Run at build time (cmake -P, core/CMakeLists.txt): writes OUT, a header
 # defining GIHARNESS_REFERENCE_SOURCES_HASH, a SHA-256 over the names and
-# contents of FILES ('|'-separated: a ';' list would be split by the shell).
-# It goes into the Embree reference cache key (reference_cache.h), so the key
-# follows the sources the binary was compiled from, without the installed
-# binary reading any source file.
-string(REPLACE "|" ";" files "${FILES}")
-list(SORT files)
+# contents of the Embree reference's sources: ROOTS ('|'-separated: a ';'
+# list would be split by the shell) and every file of core/shared and
+# core/reference they include, transitively (an #include "..." resolved
+# beside its includer, else under SOURCE_DIR). It goes into the Embree reference cache key
+# (reference_cache.h), so the key follows exactly the sources the reference
+# is compiled from: an edit of a shader-only header (the BVH traversal,
+# ReSTIR) re-renders no reference. The installed binary reads no source file.
+cmake_minimum_required(VERSION 3.25)
+string(REPLACE "|" ";" queue "${ROOTS}")
+set(seen "")
+while(queue)
+  list(POP_FRONT queue f)
+  if(f IN_LIST seen)
+    continue()
+  endif()
+  list(APPEND seen "${f}")
+  file(STRINGS "${f}" lines REGEX "^[ \t]*#[ \t]*include[ \t]+\"[^\"]+\"")
+  get_filename_component(dir "${f}" DIRECTORY)
+  foreach(line IN LISTS lines)
+    string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]+\"([^\"]+)\".*" "\\1" included "${line}")
+    # As the compiler finds it: beside the includer, else from the source root.
+    foreach(candidate "${dir}/${included}" "${SOURCE_DIR}/${included}")
+      get_filename_component(candidate "${candidate}" ABSOLUTE)
+      if(EXISTS "${candidate}")
+        file(RELATIVE_PATH rel "${SOURCE_DIR}" "${candidate}")
+        if(rel MATCHES "^core/(shared|reference)/")
+          list(APPEND queue "${candidate}")
+        endif()
+        break()
+      endif()
+    endforeach()
+  endforeach()
+endwhile()
+list(SORT seen)
 set(all "")
-foreach(f IN LISTS files)
+foreach(f IN LISTS seen)
   file(SHA256 "${f}" h)
-  get_filename_component(name "${f}" NAME)
+  file(RELATIVE_PATH name "${SOURCE_DIR}" "${f}")
   string(APPEND all "${name} ${h}\n")
 endforeach()
 string(SHA256 digest "${all}")
@@ -23,3 +51,6 @@ endif()
 if(NOT old STREQUAL text)
   file(WRITE "${OUT}" "${text}")
 endif()
+# The files hashed, for a reader who wants to know what re-renders.
+string(REPLACE ";" "\n" names "${seen}")
+file(WRITE "${OUT}.files" "${names}\n")

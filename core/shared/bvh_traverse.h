@@ -186,30 +186,17 @@ GI_FN bool bvh_trace(vec3 origin, vec3 dir, float tmax, bool any_hit, OUT(Hit) h
   vec3 inv = safe_inverse_direction(dir);
   uint stack[BVH_TLAS_STACK_SIZE];
   uint sp = 0u;
-  uint node = BVH_CHILD_EMPTY;
   float best_t = tmax;
   uint best_instance = 0u;
   uint best_primitive = 0u;
   vec2 best_bary = vec2(0.0f);
   bool found = false;
-  // The root's visit is peeled off the loop: its address (node 0), and so its
-  // leaf children's, is the same in every invocation, which lavapipe loads
-  // once for all lanes instead of gathering; with one instance under the
-  // root, the TLAS and that BLAS's root cost no gathers at all (measured
-  // +10%). The BLAS traversal is inlined twice for it.
-  {
-    BvhNode n = bvh_node(0u);
-    vec4 tnear;
-    bvec4 box_hit = bvh_ray_box4(n, origin, inv, best_t, tnear);
-    if (!bvh_visit_instance_leaves(n, box_hit, origin, dir, any_hit, best_t, best_instance, best_primitive,
-                                   best_bary, found)) {
-      BVH_NEXT_INNER_CHILD(n, box_hit, tnear, best_t, stack, sp, node)
-    }
-  }
-  if (node == BVH_CHILD_EMPTY && sp > 0u) {
-    sp -= 1u;
-    node = stack[sp];
-  }
+  // One visit loop from the root: a copy of the root's visit before the loop
+  // (which let lavapipe load node 0 once for all lanes) put a second BLAS
+  // traversal in every trace call, and the shader compiler inlines the whole
+  // traversal at each call; the GI shaders' compile on lavapipe took twice as
+  // long. Same nodes in the same order: the same bits.
+  uint node = 0u;
   while (node != BVH_CHILD_EMPTY) {
     BvhNode n = bvh_node(node);
     vec4 tnear;

@@ -67,13 +67,29 @@ GI_FN ResolvedLightSample resolve_light_sample_encoded(LightSample ls, float exp
 
 // Shadow ray from a surface point (geometric normal ng facing the light's side)
 // to a resolved sample: aimed from the offset origin at the light point, as
-// path_integrator.h's next-event estimation does.
-GI_FN bool light_sample_visible(vec3 position, vec3 ng, ResolvedLightSample s) {
+// path_integrator.h's next-event estimation does. False when the light is
+// behind the surface (no ray).
+GI_FN bool light_sample_shadow_ray(vec3 position, vec3 ng, ResolvedLightSample s, OUT(vec3) spawn, OUT(vec3) dir,
+                                   OUT(float) tmax) {
   LightContribution c = light_contribution(s, position, ng);
   if (dot(c.wi, ng) <= 0.0f) return false;
-  vec3 spawn = offset_ray_origin(position, ng);
-  if (s.world_position.w == 0.0f) return trace_unoccluded(spawn, c.wi, RAY_TMAX);
-  vec3 to_light = vec3(s.world_position) - spawn;
-  float dist = length(to_light);
-  return trace_unoccluded(spawn, to_light / dist, dist * (1.0f - 1e-4f));
+  spawn = offset_ray_origin(position, ng);
+  dir = c.wi;
+  tmax = RAY_TMAX;
+  if (s.world_position.w != 0.0f) {
+    vec3 to_light = vec3(s.world_position) - spawn;
+    float dist = length(to_light);
+    dir = to_light / dist;
+    tmax = dist * (1.0f - 1e-4f);
+  }
+  return true;
+}
+
+// Whether the sample lights the point. One trace call for both kinds of
+// light: the shader compiler inlines the whole traversal at every call
+// (core/shared/bvh_traverse.h).
+GI_FN bool light_sample_visible(vec3 position, vec3 ng, ResolvedLightSample s) {
+  vec3 spawn, dir;
+  float tmax;
+  return light_sample_shadow_ray(position, ng, s, spawn, dir, tmax) && trace_unoccluded(spawn, dir, tmax);
 }

@@ -158,7 +158,13 @@ GI_FN GlossyPathEnd glossy_path_end(float spread_a0, float first_pdf, float firs
 // HIT_GLOSSY_BOUNCES vertices. At the last vertex Solari stops after NEE
 // (light beyond it is lost); HIT_SURFACES_FULL ends the path there in
 // end_path_radiance instead.
-GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd path_end, INOUT(uint) rng) {
+//
+// trace_first: the path starts with a trace from `spawn` along `dir` (a miss
+// returns black: escaped light at the first vertex is DI's); otherwise at
+// `hit`. Every segment is traced by the one call at the top of the loop: the
+// shader compiler inlines the whole traversal at each call.
+GI_FN vec3 glossy_path_radiance_from(bool trace_first, Hit hit, vec3 spawn, vec3 dir, CacheQuery q,
+                                     GlossyPathEnd path_end, INOUT(uint) rng) {
   vec3 radiance = vec3(0.0f);
   vec3 throughput = vec3(1.0f);
   float previous_pdf = 0.0f;  // of the direction just traced; 0: no NEE at its origin (mirror or first vertex)
@@ -167,6 +173,15 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
   float spread_pdf = path_end.first_pdf;
 #endif
   for (uint vertex = 0u;; ++vertex) {
+    if (vertex > 0u || trace_first) {
+#ifdef GLOSSY_SEGMENT_TRACED
+      GLOSSY_SEGMENT_TRACED();  // the includer's ray count (specular_gi.comp, GI_PATH_COUNTERS)
+#endif
+      if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
+        if (vertex > 0u) radiance += throughput * escaped_radiance(dir, previous_pdf);
+        break;
+      }
+    }
     SurfacePoint s = surface_at_hit(hit);
     bool front = dot(dir, s.geometric_normal) < 0.0f;
     if (vertex == 0u && front) radiance += path_end.first_emission * s.emissive;
@@ -199,7 +214,7 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
       radiance += throughput * end_path_radiance(s, hng, hns, v, hit.t, q, rng);
       break;
     }
-    vec3 spawn = offset_ray_origin(s.position, hng);
+    spawn = offset_ray_origin(s.position, hng);
     bool mirror = brdf.alpha <= SPECULAR_MIRROR_ALPHA;
     if (!mirror) add_next_event(brdf, s.position, hng, hns, v, spawn, throughput, hit_mis_heuristic(), radiance, rng);
     if (last) break;  // Solari: light beyond the last vertex is lost
@@ -234,15 +249,12 @@ GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd p
 #endif
     dir = l;
     q.first_bounce = 0u;  // a later vertex is not GI's first bounce
-#ifdef GLOSSY_SEGMENT_TRACED
-    GLOSSY_SEGMENT_TRACED();  // the includer's ray count (specular_gi.comp, GI_PATH_COUNTERS)
-#endif
-    if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
-      radiance += throughput * escaped_radiance(dir, previous_pdf);
-      break;
-    }
   }
   return radiance;
+}
+
+GI_FN vec3 glossy_path_radiance(Hit hit, vec3 dir, CacheQuery q, GlossyPathEnd path_end, INOUT(uint) rng) {
+  return glossy_path_radiance_from(false, hit, vec3(0.0f), dir, q, path_end, rng);
 }
 
 // What a GI sample (or a cache cell's GI ray) receives from its hit: Solari

@@ -74,13 +74,10 @@ float di_target_at(ResolvedLightSample r, vec3 position, vec3 ng, vec3 ns, vec3 
 // light_sample_visible (core/shared/light_sampling.h) against last frame's
 // scene: whether the sample lit `position` a frame ago (Bevy #25046).
 bool light_sample_visible_previous_scene(vec3 position, vec3 ng, ResolvedLightSample s) {
-  LightContribution c = light_contribution(s, position, ng);
-  if (dot(c.wi, ng) <= 0.0) return false;
-  vec3 spawn = offset_ray_origin(position, ng);
-  if (s.world_position.w == 0.0) return trace_unoccluded_previous_scene(spawn, c.wi, RAY_TMAX);
-  vec3 to_light = vec3(s.world_position) - spawn;
-  float dist = length(to_light);
-  return trace_unoccluded_previous_scene(spawn, to_light / dist, dist * (1.0 - 1e-4));
+  vec3 spawn, dir;
+  float tmax;
+  return light_sample_shadow_ray(position, ng, s, spawn, dir, tmax) &&
+         trace_unoccluded_previous_scene(spawn, dir, tmax);
 }
 #endif
 

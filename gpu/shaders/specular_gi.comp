@@ -37,10 +37,9 @@ layout(std430, set = 0, binding = BINDING_SPECULAR_ACCUMULATION) buffer Accumula
 // Radiance arriving at `position` along `dir`, without what DI owns (the
 // first hit's emission, escaped light): glossy_path_radiance from the first hit.
 vec3 trace_glossy_path(vec3 position, vec3 ng, vec3 dir, uint query_id, GlossyPathEnd path_end, inout uint rng) {
-  Hit hit;
-  GLOSSY_SEGMENT_TRACED();
-  if (!trace_closest(offset_ray_origin(position, ng), dir, RAY_TMAX, hit)) return vec3(0.0);
-  return glossy_path_radiance(hit, dir, gi_pixel_query(query_id, false), path_end, rng);
+  Hit first;  // traced by glossy_path_radiance_from
+  return glossy_path_radiance_from(true, first, offset_ray_origin(position, ng), dir, gi_pixel_query(query_id, false),
+                                   path_end, rng);
 }
 
 #if SPECULAR_CACHE_EVERY_VERTEX != 0

@@ -40,6 +40,7 @@
 #include "gpu/device.h"
 #include "replay/cli/child_process.h"
 #include "replay/cli/commands.h"
+#include "replay/wall_breakdown.h"
 #include "reports/baseline_store.h"
 #include "reports/change.h"
 #include "reports/figures.h"
@@ -467,6 +468,7 @@ int run_nightly(const NightlyOptions& o) {
           suite["device_class"] = cls;
         }
         compare_row(summary, o.baseline_dir / cls, o, row);
+        add_wall_breakdown(suite["wall_breakdown"], summary.value("wall_breakdown", nlohmann::json()));
         // Another process's view of the same tree: only where the bits say it is the same tree.
         if (o.add_timing_run && row.contains("change") && row["change"].value("status", "") == "unchanged") {
           const std::string why_not = add_timing_run(o.baseline_dir / cls, summary);
@@ -506,6 +508,9 @@ int run_nightly(const NightlyOptions& o) {
   std::error_code ec;
   std::filesystem::remove(o.out_dir / "logs", ec);  // only if empty: logs of scenarios that never got a name stay
   suite["wall_seconds"] = json_figure(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (suite.contains("wall_breakdown") && suite["wall_breakdown"].is_object())
+    spdlog::info("the scenarios' runs (first seed; timing confirmations not counted): {}",
+                 wall_breakdown_line(suite["wall_breakdown"]));
   if (!suite.contains("device_class")) suite["device_class"] = "unknown";
   const std::filesystem::path class_dir = o.baseline_dir / suite["device_class"].get<std::string>();
   suite["baseline_status"] = std::filesystem::is_directory(class_dir) ? "found" : "none for this device class";
