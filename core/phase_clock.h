@@ -18,6 +18,9 @@ inline constexpr const char* kShaderSources = "shader_sources";  // glslang and 
 inline constexpr const char* kPipelines = "pipelines";           // the driver's vkCreateComputePipelines
 inline constexpr const char* kReferences = "references";         // Embree references: rendered or read from the cache
 inline constexpr const char* kFrames = "frames";                 // the frame loop, GPU work included
+inline constexpr const char* kScene = "scene";                   // the scenario's scene: import, textures, flattening
+inline constexpr const char* kGpuSetup = "gpu_setup";            // the pipelines' buffers, the BVH, uploads
+inline constexpr const char* kSummary = "summary";               // summary.json and what it computes
 }  // namespace phase
 
 // Seconds per phase, exclusive of nested phases, since the process started.

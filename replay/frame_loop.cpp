@@ -27,6 +27,7 @@ std::string chain_folder(std::uint32_t c) { return fmt::format("chain_{}", c); }
 FrameLoop::FrameLoop(const Scenario& scenario, const RunOptions& options, RunSetup& setup, gpu::Device& device)
     : scenario_(scenario), options_(options), setup_(setup), device_(device), compiler_(cache_root()),
       scene_(setup.initial), geometry_(std::move(setup.geometry)), frame_log_(options.out_dir / "frames.jsonl") {
+  const PhaseScope timed(phase::kGpuSetup);
   if (setup.record_hashes) hash_log_.emplace(options.out_dir / "buffer_hashes.jsonl");
   build_renderer();
   previous_camera_ = make_gpu_camera(scene_.camera, setup.width, setup.height);

@@ -9,6 +9,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/phase_clock.h"
 #include "gpu/device.h"
 #include "replay/failure_capture.h"
 #include "replay/frame_loop.h"
@@ -23,7 +24,10 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   // The seed lesson's 2D radiance cascades: a pipeline of its own (issue 18).
   if (scenario.pipeline == Pipeline::RadianceCascades) return run_rc_scenario(scenario, options);
   const auto started = std::chrono::steady_clock::now();
-  RunSetup setup(scenario, options);
+  RunSetup setup = [&] {
+    const PhaseScope timed(phase::kScene);
+    return RunSetup(scenario, options);
+  }();
   // A check that decides without drawing (cluster_ids "count_only") runs the scenario alone.
   for (auto& check : setup.checks)
     if (check->runs_alone()) return check->run_alone();

@@ -15,6 +15,7 @@
 #include "replay/events.h"
 #include "core/reference/reference_cache.h"
 #include "core/cache_root.h"
+#include "core/phase_clock.h"
 #include "replay/signal_figures.h"
 #include "replay/wall_breakdown.h"
 
@@ -143,6 +144,7 @@ nlohmann::json run_equal_time(const RunFacts& run, const nlohmann::json& s, cons
 }  // namespace
 
 void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captures, RunResult& result) {
+  std::optional<PhaseScope> timed(std::in_place, phase::kSummary);  // ends before the breakdown is taken
   const Scenario& scenario = run.scenario;
   const RunSetup& setup = run.setup;
   nlohmann::json checks = nlohmann::json::array();
@@ -208,6 +210,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   if (run.loop.hash_log_written()) s["hash_log"] = "buffer_hashes.jsonl";
   if (!run.options.resume_from.empty())
     s["resumed_from"] = {{"capture", run.options.resume_from.string()}, {"frame", run.loop.first_frame() - 1}};
+  timed.reset();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.started).count();
   s["wall_seconds"] = json_figure(wall);
   s["wall_breakdown"] = wall_breakdown(wall, s["frames"]);

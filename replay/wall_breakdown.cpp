@@ -15,7 +15,7 @@ namespace {
 
 constexpr const char* kMethod =
     "seconds: wall time per phase, a phase inside another counted in the inner one (core/phase_clock.h); other: the "
-    "rest of the wall (scene setup, checks, readbacks, the summary). first_dispatch_ms: per pass, frame 0's pass time "
+    "rest of the wall (device creation, the checks' results, failure captures). first_dispatch_ms: per pass, frame 0's pass time "
     "minus the median of its later frames' (passes timed on at least 3 frames; 0 where not above): on a device that "
     "compiles a pipeline when it first runs (lavapipe), the driver's compile, inside frames";
 
