@@ -21,6 +21,7 @@ inline constexpr const char* kFrames = "frames";                 // the frame lo
 inline constexpr const char* kScene = "scene";                   // the scenario's scene: import, textures, flattening
 inline constexpr const char* kGpuSetup = "gpu_setup";            // the pipelines' buffers, the BVH, uploads
 inline constexpr const char* kSummary = "summary";               // summary.json and what it computes
+inline constexpr const char* kEqualTime = "equal_time";          // the equal-time peers (--equal-time, the nightly's)
 }  // namespace phase
 
 // Seconds per phase, exclusive of nested phases, since the process started.

@@ -188,7 +188,10 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   write_exr(run.options.out_dir / kFinalImageFile, {{"", &last}}, ExrPixels::half);
   s["final_image"] = kFinalImageFile;
   s["noise"] = run.loop.noise();
-  if (run.options.equal_time && setup.realtime) s["equal_time"] = run_equal_time(run, s, result.checks);
+  if (run.options.equal_time && setup.realtime) {
+    const PhaseScope timed_peers(phase::kEqualTime);
+    s["equal_time"] = run_equal_time(run, s, result.checks);
+  }
   if (setup.renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.
     const gpu::WorldCache& cache = run.loop.renderer().world_cache();
