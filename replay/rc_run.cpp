@@ -109,6 +109,7 @@ void write_capture(const std::filesystem::path& out, std::uint32_t frame, gpu::D
 
 RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  const std::map<std::string, double> phases_at_start = phase_seconds();
   Profile profile = resolve_profile(scenario, options.profile, options.sets);
   if (!profile.values.count("rc.distance_field"))
     throw InputError("--profile", "", "the radiance-cascades profile (radiance-cascades-lesson or a file with its keys)");
@@ -277,7 +278,7 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
                          {"same_bits", !image_hashes.empty() && image_hashes.front() == resumed_hash}};
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   s["wall_seconds"] = wall;
-  s["wall_breakdown"] = wall_breakdown(wall, s["frames"]);
+  s["wall_breakdown"] = wall_breakdown(wall, s["frames"], phases_at_start);
   write_json_file(options.out_dir / "summary.json", s);
   spdlog::info("{}: {}", scenario.name, wall_breakdown_line(s["wall_breakdown"]));
   for (const CheckResult& c : result.checks)

@@ -24,6 +24,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   // The seed lesson's 2D radiance cascades: a pipeline of its own (issue 18).
   if (scenario.pipeline == Pipeline::RadianceCascades) return run_rc_scenario(scenario, options);
   const auto started = std::chrono::steady_clock::now();
+  const std::map<std::string, double> phases_at_start = phase_seconds();
   RunSetup setup = [&] {
     const PhaseScope timed(phase::kScene);
     return RunSetup(scenario, options);
@@ -49,7 +50,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   nlohmann::json failure_captures = nlohmann::json::array();
   if (options.capture_failures && !all_pass && options.resume_from.empty())
     failure_captures = capture_failing_frames(scenario, options, setup.frames, loop.captured_frames(), result.checks);
-  write_run_summary({scenario, options, setup, loop, device, started}, failure_captures, result);
+  write_run_summary({scenario, options, setup, loop, device, started, phases_at_start}, failure_captures, result);
 
   for (const CheckResult& c : result.checks)
     spdlog::log(c.passed() ? spdlog::level::info : spdlog::level::err, "{}: check {} {}: {}", scenario.name, c.name,

@@ -216,7 +216,7 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
   timed.reset();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.started).count();
   s["wall_seconds"] = json_figure(wall);
-  s["wall_breakdown"] = wall_breakdown(wall, s["frames"]);
+  s["wall_breakdown"] = wall_breakdown(wall, s["frames"], run.phases_at_start);
   write_json_file(run.options.out_dir / "summary.json", s);
   spdlog::info("{}: {}", scenario.name, wall_breakdown_line(s["wall_breakdown"]));
 }

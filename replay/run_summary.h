@@ -3,6 +3,8 @@
 // "Command line" and read by the nightly suite, baselines and reports.
 #pragma once
 #include <chrono>
+#include <map>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +20,7 @@ struct RunFacts {
   FrameLoop& loop;
   gpu::Device& device;
   std::chrono::steady_clock::time_point started;
+  std::map<std::string, double> phases_at_start;  // phase_seconds() then: a process may run many scenarios
 };
 
 // summary.json's "timings" (per pass, and per frame: the GPU pass sum and the

@@ -45,10 +45,14 @@ double sum_of(const nlohmann::json& figures) {
 
 }  // namespace
 
-nlohmann::json wall_breakdown(double wall_seconds, const nlohmann::json& frames) {
+nlohmann::json wall_breakdown(double wall_seconds, const nlohmann::json& frames,
+                              const std::map<std::string, double>& phases_at_start) {
   nlohmann::json seconds = nlohmann::json::object();
   double phases = 0;
-  for (const auto& [phase, s] : phase_seconds()) {
+  for (const auto& [phase, total] : phase_seconds()) {
+    const auto before = phases_at_start.find(phase);
+    const double s = total - (before == phases_at_start.end() ? 0.0 : before->second);
+    if (s <= 0.0) continue;  // not in this run
     seconds[phase] = json_figure(s);
     phases += s;
   }

@@ -4,6 +4,7 @@
 // the frame's GPU work, so that time shows as frame 0's pass time above the
 // pass's later frames. The nightly adds the runs' breakdowns up.
 #pragma once
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -11,8 +12,11 @@
 namespace gi {
 
 // wall_seconds: the run's; frames: summary.json's per-frame records (each
-// with "frame" and "pass_ms"), the first of them the run's first frame.
-nlohmann::json wall_breakdown(double wall_seconds, const nlohmann::json& frames);
+// with "frame" and "pass_ms"), the first of them the run's first frame;
+// phases_at_start: phase_seconds() when the run began (a process may run
+// several scenarios: run --seeds, sweep, the determinism check's rerun).
+nlohmann::json wall_breakdown(double wall_seconds, const nlohmann::json& frames,
+                              const std::map<std::string, double>& phases_at_start = {});
 
 // Adds one run's breakdown to a total of the same form (a null total: none yet).
 void add_wall_breakdown(nlohmann::json& total, const nlohmann::json& run);

@@ -58,6 +58,23 @@ TEST(WallBreakdown, FirstDispatchIsFrameZeroAboveTheLaterFramesMedian) {
   EXPECT_NE(wall_breakdown_line(b).find("slowest first dispatch compiled 1.5 s"), std::string::npos);
 }
 
+// A process that runs several scenarios (run --seeds, sweep) reports each
+// run's phases only: what earlier runs spent is not counted again.
+TEST(WallBreakdown, ARunCountsOnlyItsOwnPhases) {
+  {
+    const PhaseScope earlier("test_run_phase");
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  const auto at_start = phase_seconds();
+  {
+    const PhaseScope own("test_run_phase");
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const double own = wall_breakdown(1.0, nlohmann::json::array(), at_start)["seconds"]["test_run_phase"].get<double>();
+  EXPECT_GE(own, 0.01);
+  EXPECT_LT(own, 0.2);  // without the snapshot it holds both runs' time, at least 0.21 s
+}
+
 // The nightly's total adds every run's figures.
 TEST(WallBreakdown, TheSuiteTotalAddsTheRuns) {
   const nlohmann::json a = {{"wall_seconds", 3.0},
