@@ -16,6 +16,7 @@
 #include "replay/rc_run.h"
 #include "replay/resource_limits.h"
 #include "replay/run_setup.h"
+#include "core/reference/reference_cache.h"
 #include "replay/run_summary.h"
 
 namespace gi {
@@ -25,6 +26,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   if (scenario.pipeline == Pipeline::RadianceCascades) return run_rc_scenario(scenario, options);
   const auto started = std::chrono::steady_clock::now();
   const std::map<std::string, double> phases_at_start = phase_seconds();
+  const std::size_t references_at_start = reference_entries_used().size();
   RunSetup setup = [&] {
     const PhaseScope timed(phase::kScene);
     return RunSetup(scenario, options);
@@ -50,7 +52,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   nlohmann::json failure_captures = nlohmann::json::array();
   if (options.capture_failures && !all_pass && options.resume_from.empty())
     failure_captures = capture_failing_frames(scenario, options, setup.frames, loop.captured_frames(), result.checks);
-  write_run_summary({scenario, options, setup, loop, device, started, phases_at_start}, failure_captures, result);
+  write_run_summary({scenario, options, setup, loop, device, started, phases_at_start, references_at_start}, failure_captures, result);
 
   for (const CheckResult& c : result.checks)
     spdlog::log(c.passed() ? spdlog::level::info : spdlog::level::err, "{}: check {} {}: {}", scenario.name, c.name,

@@ -192,6 +192,10 @@ void write_run_summary(const RunFacts& run, const nlohmann::json& failure_captur
     const PhaseScope timed_peers(phase::kEqualTime);
     s["equal_time"] = run_equal_time(run, s, result.checks);
   }
+  // The reference cache's entries this run read or rendered: what `nightly
+  // --update-baseline` keeps as seeds (core/reference/reference_cache.h).
+  const std::vector<std::string> used = reference_entries_used();
+  s["reference_entries"] = std::vector<std::string>(used.begin() + std::ptrdiff_t(std::min(run.references_at_start, used.size())), used.end());
   if (setup.renderer_options.world_cache) {
     // The cache's persistent cells at the end: equal across runs and thread counts.
     const gpu::WorldCache& cache = run.loop.renderer().world_cache();

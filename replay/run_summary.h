@@ -21,6 +21,7 @@ struct RunFacts {
   gpu::Device& device;
   std::chrono::steady_clock::time_point started;
   std::map<std::string, double> phases_at_start;  // phase_seconds() then: a process may run many scenarios
+  std::size_t references_at_start = 0;            // reference_entries_used().size() then
 };
 
 // summary.json's "timings" (per pass, and per frame: the GPU pass sum and the

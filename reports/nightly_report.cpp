@@ -374,6 +374,10 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
       {"wall time", html_figure(suite.value("wall_seconds", nlohmann::json())) + " s"},
       {"build", html_escape(suite.value("build", nlohmann::json::object()).dump())}};
   if (suite.contains("shard")) info.push_back({"shard", html_escape(suite["shard"].dump())});
+  if (suite.value("jobs", 1) > 1)
+    info.push_back({"jobs", fmt::format("{} scenarios at once: their timing and speed-against-error figures were "
+                                        "measured on a loaded machine",
+                                        suite["jobs"].get<int>())});
   if (suite.value("interrupted", false)) info.push_back({"interrupted", html_verdict("interrupted")});
   body += html_table({"", ""}, info);
 

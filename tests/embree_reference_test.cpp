@@ -1,6 +1,7 @@
 // The Embree reference path tracer, its cache, EXR I/O and the image metrics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/errors.h"
@@ -228,6 +230,47 @@ TEST(EmbreeReference, CacheReturnsIdenticalBits) {
   // No temporary file is left behind.
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  std::filesystem::remove_all(dir);
+}
+
+// Seeds (the references committed with the baselines) serve a cache miss
+// with the bits the seed's machine rendered, and land in the cache; a seed of
+// another integrator version is never read, and updating the seeds removes it.
+TEST(EmbreeReference, SeedsServeAMissAndGoWhenTheirVersionDoes) {
+  const std::filesystem::path dir = fresh_dir("refseeds");
+  const Scene scene = make_cornell_box();
+  ReferenceOptions o;
+  o.width = o.height = 16;
+  o.spp = 4;
+  bool hit = true;
+  const ReferenceResult rendered = cached_reference(scene, o, dir / "first_cache", dir / "no_seeds", &hit);
+  EXPECT_FALSE(hit);
+  const std::string stem = "reference-" + fmt::format("{:016x}", reference_cache_key(scene, o));
+  const std::vector<std::string> used = reference_entries_used();
+  EXPECT_NE(std::find(used.begin(), used.end(), stem), used.end());
+
+  // A stale seed: another version's sidecar beside a copy of the EXR.
+  std::filesystem::create_directories(dir / "seeds");
+  std::filesystem::copy_file(dir / "first_cache" / (stem + ".exr"), dir / "seeds/reference-00000000000000aa.exr");
+  std::ofstream(dir / "seeds/reference-00000000000000aa.json") << R"({"key": "00000000000000aa", "version": "old"})";
+  const ReferenceSeeds kept = keep_reference_seeds({stem, "reference-not-in-the-cache"}, dir / "first_cache", dir / "seeds");
+  EXPECT_EQ(kept.added, 1u);
+  EXPECT_EQ(kept.removed, 1u);
+  EXPECT_EQ(kept.entries, 1u);
+  EXPECT_GT(kept.bytes, 0u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "seeds/reference-00000000000000aa.exr"));
+
+  // A fresh cache: the seed serves the miss, bit for bit, and is copied in.
+  const ReferenceResult seeded = cached_reference(scene, o, dir / "fresh_cache", dir / "seeds", &hit);
+  EXPECT_TRUE(hit);
+  EXPECT_TRUE(same_bits(rendered.mean, seeded.mean));
+  EXPECT_TRUE(same_bits(rendered.half_b, seeded.half_b));
+  EXPECT_TRUE(std::filesystem::exists(dir / "fresh_cache" / (stem + ".json")));
+  // Another key is not in the seeds: rendered.
+  ReferenceOptions other = o;
+  other.spp = 5;
+  cached_reference(scene, other, dir / "other_cache", dir / "seeds", &hit);
+  EXPECT_FALSE(hit);
   std::filesystem::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 // with GIHARNESS_TEST_FAULT=<kind>@<frame>:<scenario> (replay/test_faults.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 
@@ -109,6 +110,48 @@ TEST(NightlyIsolation, AScenariosOwnTimeoutWinsOverTheSuites) {
   const Night n = nightly(dir, suite_of_three(dir.path(), toggle), "GIHARNESS_TEST_FAULT=hang@3:tiny_light_toggle",
                           "--scenario-timeout 600");
   expect_middle_only(dir, n, "timeout", "no result within 3 s", 3);
+}
+
+// The offset of the first line of `output` that holds both `a` and `b`.
+std::size_t line_with(const std::string& output, const std::string& a, const std::string& b) {
+  for (std::size_t start = 0; start < output.size();) {
+    const std::size_t end = std::min(output.find('\n', start), output.size());
+    const std::string line = output.substr(start, end - start);
+    if (line.find(a) != std::string::npos && line.find(b) != std::string::npos) return start;
+    start = end + 1;
+  }
+  return std::string::npos;
+}
+
+// --jobs 2 runs two scenarios at once: the third ends while the hung second
+// still runs (one at a time, it could not start before the second ended),
+// and every row keeps the suite's order and the verdict it has alone.
+TEST(NightlyIsolation, JobsRunScenariosSideBySideInTheSuitesOrder) {
+  const test::TempDir dir("isolation-jobs");
+  const Night n = nightly(dir, suite_of_three(dir.path()), "GIHARNESS_TEST_FAULT=hang@3:tiny_light_toggle",
+                          "--scenario-timeout 8 --jobs 2");
+  expect_middle_only(dir, n, "timeout", "no result within 8 s", 3);
+  EXPECT_EQ(n.summary["jobs"], 2);
+  const std::size_t third = line_with(n.result.output, "[3/3] tiny_no_blocks", "pass");
+  const std::size_t second = line_with(n.result.output, "[2/3]", "timeout");
+  ASSERT_NE(third, std::string::npos) << n.result.output;
+  ASSERT_NE(second, std::string::npos) << n.result.output;
+  EXPECT_LT(third, second) << n.result.output;
+  EXPECT_NE(n.result.output.find("2 scenarios at a time"), std::string::npos) << n.result.output;
+}
+
+// Baselines keep timing samples and a timing verdict needs a quiet machine:
+// neither is asked of a night that runs scenarios side by side.
+TEST(NightlyIsolation, JobsRefuseWhatMeasuresTime) {
+  const test::TempDir dir("isolation-jobs-refuse");
+  for (const char* flag : {"--update-baseline", "--add-timing-run", "--fail-on-timing"}) {
+    const test::CommandResult r = test::run_giharness("nightly --suite " + suite_of_three(dir.path() / flag).string() +
+                                                          " --out " + (dir.path() / "out").string() + " --jobs 2 " + flag,
+                                                      "");
+    EXPECT_EQ(r.exit_code, 2) << flag << r.output;
+    EXPECT_NE(r.output.find("one scenario at a time"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out/summary.json")) << flag;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -14,6 +15,9 @@
 #include <nlohmann/json.hpp>
 #include <xxhash.h>
 
+#include "core/atomic_file.h"
+#include "core/data_dir.h"
+#include "core/errors.h"
 #include "core/exr_io.h"
 #include "core/phase_clock.h"
 #include "core/reference/reference_sources_hash.h"  // generated: core/reference/sources_hash.cmake
@@ -97,6 +101,36 @@ bool load(const std::filesystem::path& exr, const std::filesystem::path& json_pa
   }
 }
 
+std::mutex g_used_mutex;
+std::vector<std::string> g_used;  // reference_entries_used()
+
+void note_used(const std::string& stem) {
+  const std::lock_guard lock(g_used_mutex);
+  if (std::find(g_used.begin(), g_used.end(), stem) == g_used.end()) g_used.push_back(stem);
+}
+
+// An entry's two files from one folder into another, the EXR first and the
+// sidecar last (an entry is complete once its JSON exists), each written
+// then renamed.
+void copy_entry(const std::string& stem, const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::filesystem::create_directories(to);
+  for (const char* ext : {".exr", ".json"})
+    write_atomically(to / (stem + ext), [&](const std::filesystem::path& tmp) {
+      std::filesystem::copy_file(from / (stem + ext), tmp, std::filesystem::copy_options::overwrite_existing);
+    });
+}
+
+// The integrator version an entry's sidecar names ("" when unreadable).
+std::string entry_version(const std::filesystem::path& json_path) {
+  try {
+    std::string text;
+    if (!read_file(json_path, text)) return "";
+    return nlohmann::json::parse(text).value("version", "");
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 }  // namespace
 
 const std::string& reference_integrator_version() {
@@ -130,19 +164,43 @@ std::uint64_t reference_cache_key(const Scene& scene, const ReferenceOptions& o)
   return h.digest();
 }
 
+std::filesystem::path reference_seed_dir() {
+  try {
+    return data_dir() / "reports/baselines/references";
+  } catch (const DataDirError&) {
+    return {};
+  }
+}
+
+std::vector<std::string> reference_entries_used() {
+  const std::lock_guard lock(g_used_mutex);
+  return g_used;
+}
+
 ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, const std::filesystem::path& cache_dir,
                                  bool* hit) {
+  return cached_reference(scene, o, cache_dir, reference_seed_dir(), hit);
+}
+
+ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, const std::filesystem::path& cache_dir,
+                                 const std::filesystem::path& seed_dir, bool* hit) {
   const PhaseScope timed(phase::kReferences);
   if (hit) *hit = false;
   const std::string& version = reference_integrator_version();
 
   const std::uint64_t key = reference_cache_key(scene, o);
   const std::string stem = "reference-" + hex64(key);
+  note_used(stem);
   const std::filesystem::path exr = cache_dir / (stem + ".exr");
   const std::filesystem::path json_path = cache_dir / (stem + ".json");
 
   ReferenceResult r;
   if (load(exr, json_path, key, version, o, r)) {
+    if (hit) *hit = true;
+    return r;
+  }
+  if (!seed_dir.empty() && load(seed_dir / (stem + ".exr"), seed_dir / (stem + ".json"), key, version, o, r)) {
+    copy_entry(stem, seed_dir, cache_dir);
     if (hit) *hit = true;
     return r;
   }
@@ -178,6 +236,38 @@ ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& o, 
   }
   std::filesystem::rename(tmp, json_path);
   return r;
+}
+
+ReferenceSeeds keep_reference_seeds(const std::vector<std::string>& stems, const std::filesystem::path& cache_dir,
+                                    const std::filesystem::path& seed_dir) {
+  ReferenceSeeds out;
+  for (const std::string& stem : stems) {
+    if (std::filesystem::exists(seed_dir / (stem + ".json"))) continue;
+    if (!std::filesystem::exists(cache_dir / (stem + ".json"))) continue;  // rendered by another process's cache
+    copy_entry(stem, cache_dir, seed_dir);
+    ++out.added;
+  }
+  if (!std::filesystem::is_directory(seed_dir)) return out;
+  std::vector<std::filesystem::path> sidecars;
+  for (const auto& e : std::filesystem::directory_iterator(seed_dir))
+    if (e.path().extension() == ".json") sidecars.push_back(e.path());
+  for (const std::filesystem::path& json_path : sidecars) {
+    std::filesystem::path exr = json_path;
+    exr.replace_extension(".exr");
+    std::error_code ec;
+    if (entry_version(json_path) != reference_integrator_version()) {
+      std::filesystem::remove(json_path, ec);  // the sidecar first: a half-removed entry is a miss
+      std::filesystem::remove(exr, ec);
+      ++out.removed;
+      continue;
+    }
+    ++out.entries;
+    for (const std::filesystem::path& f : {json_path, exr}) {
+      const std::uintmax_t size = std::filesystem::file_size(f, ec);
+      if (!ec) out.bytes += size;
+    }
+  }
+  return out;
 }
 
 }  // namespace gi

@@ -68,6 +68,11 @@ void Commands::add_to(CLI::App& app) {
       ->capture_default_str();
   nightly_->add_option("--shard", nightly_options_.shard, "run shard i of n (i/n); merge with 'giharness merge'");
   nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
+  nightly_->add_option("--jobs,-j", nightly_options_.jobs,
+                       "scenarios run at once, each in a process of its own (their timing then mostly goes "
+                       "unjudged: the machine is loaded)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");
   nightly_->add_flag("--update-baseline", nightly_options_.update_baseline, "write this run's figures as baselines");
   nightly_->add_flag("!--no-timing-confirm", nightly_options_.confirm_timing,
@@ -133,6 +138,7 @@ void Commands::add_to(CLI::App& app) {
   nightly_scenario_->add_option("--device", nightly_scenario_options_.device);
   nightly_scenario_->add_option("--seeds", nightly_scenario_options_.seeds);
   nightly_scenario_->add_option("--seed-index", nightly_scenario_options_.seed_index);
+  nightly_scenario_->add_option("--jobs", nightly_scenario_options_.jobs);
 
   baseline_ = app.add_subcommand("baseline", "manage nightly baselines");
   baseline_update_ = baseline_->add_subcommand("update", "write a nightly's figures as the baselines of its device class");

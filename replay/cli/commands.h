@@ -45,6 +45,11 @@ struct NightlyOptions {
   std::string shard;              // "i/n": every n-th scenario from the i-th (sorted by file name)
   std::filesystem::path junit;    // default <out>/junit.xml
   bool resume = false;            // keep completed scenarios of <out>/summary.json
+  // Scenarios run at once, each in a process of its own. On lavapipe a
+  // driver's compile is one thread, so 2 on 2 cores roughly halve a cold
+  // night; their frames then wait for a CPU and most timing goes unjudged
+  // (reports/timing_verdict.h, "Load"): time a night with 1.
+  std::size_t jobs = 1;
   bool update_baseline = false;   // write this run's figures as the baseline
   bool confirm_timing = true;     // a timing regression is confirmed by a second run of the scenario
   bool add_timing_run = false;    // add this run's timing medians to the baselines of bit-unchanged scenarios
@@ -71,6 +76,7 @@ struct NightlyScenarioOptions {
   std::optional<int> device;
   std::optional<std::uint32_t> seeds;  // the nightly's --seeds: the row names its seed
   std::uint32_t seed_index = 0;        // k of the seed set; k > 0 runs into <out>/<name>/seed-<value>/
+  std::size_t jobs = 1;                // the nightly's --jobs: above 1, no equal-time peers
 };
 int run_nightly_scenario(const NightlyScenarioOptions& options);  // replay/cli/nightly.cpp
 

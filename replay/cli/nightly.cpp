@@ -24,17 +24,22 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <exception>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "core/atomic_file.h"
+#include "core/cache_root.h"
 #include "core/errors.h"
 #include "core/json_input.h"
+#include "core/reference/reference_cache.h"
 #include "core/scenario.h"
 #include "core/seed_set.h"
 #include "gpu/device.h"
@@ -131,7 +136,8 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
     ro.capture_failures = true;  // a failing check leaves a capture of its first failing frame
     // Speed against error at equal time (replay/equal_time.h) for the report;
     // a bug-museum scenario only asks whether its check catches the bug.
-    ro.equal_time = !bug;
+    // Not beside other scenarios (--jobs): the peers' budget is a time, and a loaded machine's is not the run's.
+    ro.equal_time = !bug && o.jobs == 1;
     if (o.seeds) {
       const std::uint32_t seed = seed_set(scenario.seed, seed_index + 1).back();
       row["seed"] = seed;
@@ -209,6 +215,7 @@ void run_isolated(const std::filesystem::path& file, const NightlyOptions& o, nl
   std::vector<std::string> argv = {self_executable().string(), "nightly-scenario", file.string(), "--out",
                                    o.out_dir.string(), "--row", row_file.string()};
   if (o.device) argv.insert(argv.end(), {"--device", std::to_string(*o.device)});
+  if (o.jobs > 1) argv.insert(argv.end(), {"--jobs", std::to_string(o.jobs)});
   if (o.seeds)
     argv.insert(argv.end(), {"--seeds", std::to_string(*o.seeds), "--seed-index", std::to_string(seed_index)});
   ChildLimits limits;
@@ -313,8 +320,17 @@ void compare_row(const nlohmann::json& summary, const std::filesystem::path& cla
                                  ? TimingSamples::from_json((*doc)["timing_samples"], baseline_file(class_dir, name).string())
                                  : TimingSamples{};
   if (!measured.series.empty() || !base.series.empty()) {
-    TimingComparison timing = compare_timings(base, measured);
-    if (timing.verdict == "regressed" && o.confirm_timing) confirm_timing(timing, base, row["file"].get<std::string>(), name, o);
+    TimingComparison timing;
+    if (o.jobs > 1) {
+      // Side by side, a scenario's passes wait for the CPUs another's compile
+      // holds, more than the per-frame load test sees (a pipeline total read
+      // 2.3x its baseline in such a night).
+      timing.reason = fmt::format("{} scenarios ran at once (--jobs {}): timing is judged one at a time", o.jobs, o.jobs);
+    } else {
+      timing = compare_timings(base, measured);
+      if (timing.verdict == "regressed" && o.confirm_timing)
+        confirm_timing(timing, base, row["file"].get<std::string>(), name, o);
+    }
     row["timing"] = timing.to_json();
   }
   const ScenarioFigures baseline = baseline_figures(*doc, baseline_file(class_dir, name));
@@ -364,6 +380,20 @@ bool run_other_seeds(nlohmann::json& row, const nlohmann::json& seed0, const Nig
   return true;
 }
 
+// --update-baseline: the references a scenario was judged against become
+// seeds in <baseline root>/references (core/reference/reference_cache.h), so
+// a fresh machine renders none that a baseline already holds.
+ReferenceSeeds keep_seeds(const nlohmann::json& summary, const std::filesystem::path& baseline_root) {
+  return keep_reference_seeds(summary.value("reference_entries", std::vector<std::string>()),
+                              cache_root() / "reference", baseline_root / "references");
+}
+
+void log_seeds(const ReferenceSeeds& last, std::size_t added, const std::filesystem::path& baseline_root) {
+  spdlog::info("reference seeds in {}: {} added, {} of another integrator version removed; {} entries, {:.2f} MB",
+               (baseline_root / "references").string(), added, last.removed, last.entries,
+               double(last.bytes) / (1024.0 * 1024.0));
+}
+
 // "i/n" with 1 ≤ i ≤ n.
 std::pair<int, int> parse_shard(const std::string& text) {
   int i = 0, n = 0;
@@ -392,6 +422,12 @@ std::string progress_line(std::size_t k, std::size_t total, const nlohmann::json
 }  // namespace
 
 int run_nightly(const NightlyOptions& o) {
+  // What measures time must run alone: baselines keep timing samples, and a
+  // timing verdict needs a quiet machine.
+  if (o.jobs > 1 && (o.update_baseline || o.add_timing_run || o.fail_on_timing))
+    throw InputError("--jobs", "", fmt::format("1 with --update-baseline, --add-timing-run or --fail-on-timing (got {}): "
+                                               "baselines and timing verdicts are measured one scenario at a time",
+                                               o.jobs));
   if (o.slurm.tasks > 0) return submit_slurm_nightly(o);  // the shards run as Slurm jobs, not here
   std::vector<std::filesystem::path> files = suite_files(o.suite);
   nlohmann::json shard_info;
@@ -432,6 +468,7 @@ int run_nightly(const NightlyOptions& o) {
            {"scenarios", nlohmann::json::array()}};
   if (!shard_info.is_null()) suite["shard"] = shard_info;
   if (o.seeds) suite["seeds"] = {{"count", *o.seeds}, {"rule", seed_rule_text()}};
+  suite["jobs"] = o.jobs;
   for (const std::filesystem::path& file : files) {
     const auto it = done.find(file.string());
     suite["scenarios"].push_back(it != done.end() ? it->second
@@ -440,15 +477,26 @@ int run_nightly(const NightlyOptions& o) {
   if (!done.empty()) spdlog::info("resuming: {} of {} scenarios already complete", done.size(), files.size());
 
   StopSignals stop;
-  std::size_t k = 0, ran = 0;
-  double ran_seconds = 0;
-  std::size_t pending = files.size() - std::min(done.size(), files.size());
-  for (nlohmann::json& row : suite["scenarios"]) {
-    ++k;
-    if (row["status"] == "complete") continue;
-    if (stop.requested()) break;
+  // Rows to run, in suite order; --jobs N runs N of them at once, each in a
+  // process of its own. The suite document is only touched under `mu`: a
+  // worker runs its scenario on a copy of its row and puts it back.
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < suite["scenarios"].size(); ++i)
+    if (suite["scenarios"][i]["status"] != "complete") todo.push_back(i);
+  std::mutex mu;
+  std::size_t next = 0, ran = 0;
+  bool halted = false;  // a stop signal came between two seeds: start nothing more
+  ReferenceSeeds seeds;  // --update-baseline: the seed folder after the latest scenario
+  std::size_t seeds_added = 0;
+  const auto loop_start = std::chrono::steady_clock::now();
+  const auto run_row = [&](std::size_t i) {
+    nlohmann::json row;
+    {
+      const std::lock_guard lock(mu);
+      row = suite["scenarios"][i];
+    }
     const auto t0 = std::chrono::steady_clock::now();
-    spdlog::info("[{}/{}] {} ...", k, files.size(), row["file"].get<std::string>());
+    spdlog::info("[{}/{}] {} ...", i + 1, files.size(), row["file"].get<std::string>());
     run_isolated(row["file"].get<std::string>(), o, row);
     const nlohmann::json seed0 = o.seeds ? row : nlohmann::json();
     if (row.contains("summary")) {
@@ -463,38 +511,76 @@ int run_nightly(const NightlyOptions& o) {
       if (summary.is_object()) {
         const nlohmann::json device = summary.value("device", nlohmann::json::object());
         const std::string cls = device_class(device);
-        if (!suite.contains("device") && !device.empty()) {
-          suite["device"] = device;
-          suite["device_class"] = cls;
+        {
+          const std::lock_guard lock(mu);
+          if (!suite.contains("device") && !device.empty()) {
+            suite["device"] = device;
+            suite["device_class"] = cls;
+          }
+          add_wall_breakdown(suite["wall_breakdown"], summary.value("wall_breakdown", nlohmann::json()));
         }
         compare_row(summary, o.baseline_dir / cls, o, row);
-        add_wall_breakdown(suite["wall_breakdown"], summary.value("wall_breakdown", nlohmann::json()));
         // Another process's view of the same tree: only where the bits say it is the same tree.
         if (o.add_timing_run && row.contains("change") && row["change"].value("status", "") == "unchanged") {
           const std::string why_not = add_timing_run(o.baseline_dir / cls, summary);
           if (why_not.empty()) row["timing_run_added"] = true;
           else spdlog::warn("{}: timing run not added to its baseline: {}", row.value("name", "?"), why_not);
         }
-        if (o.update_baseline)
+        if (o.update_baseline) {
           write_baseline(o.baseline_dir / cls, summary,
                          o.out_dir / std::filesystem::path(row["summary"].get<std::string>()).parent_path());
+          const std::lock_guard lock(mu);
+          seeds = keep_seeds(summary, o.baseline_dir);
+          seeds_added += seeds.added;
+        }
       }
     }
-    if (o.seeds && !run_other_seeds(row, seed0, o, stop)) {
-      row = {{"file", row["file"]}, {"status", "pending"}};  // --resume runs all its seeds again
-      break;
+    const bool complete = !o.seeds || run_other_seeds(row, seed0, o, stop);
+    const std::lock_guard lock(mu);
+    if (!complete) {
+      suite["scenarios"][i] = {{"file", row["file"]}, {"status", "pending"}};  // --resume runs all its seeds again
+      halted = true;
+      return;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     row["wall_seconds"] = json_figure(seconds);
     row["status"] = "complete";
     ++ran;
-    ran_seconds += seconds;
-    --pending;
+    // What is left, at the pace of this night so far (the jobs side by side included).
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
+    const double eta = elapsed / double(ran) * double(todo.size() - ran);
     spdlog::log(row.value("exit_code", 0) == 0 ? spdlog::level::info : spdlog::level::err, "{}",
-                progress_line(k, files.size(), row, seconds, ran_seconds / double(ran) * double(pending)));
+                progress_line(i + 1, files.size(), row, seconds, eta));
+    suite["scenarios"][i] = std::move(row);
     // Rewritten after every scenario, so an interrupted night leaves a valid file.
     write_json_file(summary_path, suite);
-  }
+  };
+  std::exception_ptr failure;  // the first worker's error, rethrown once every running scenario has ended
+  const auto worker = [&] {
+    for (;;) {
+      std::size_t i = 0;
+      {
+        const std::lock_guard lock(mu);
+        if (halted || stop.requested() || next == todo.size()) return;
+        i = todo[next++];
+      }
+      try {
+        run_row(i);
+      } catch (...) {
+        const std::lock_guard lock(mu);
+        if (!failure) failure = std::current_exception();
+        halted = true;
+        return;
+      }
+    }
+  };
+  const std::size_t jobs = std::min<std::size_t>(o.jobs, std::max<std::size_t>(todo.size(), 1));
+  if (jobs > 1) spdlog::info("{} scenarios at a time, each in a process of its own", jobs);
+  std::vector<std::thread> workers;
+  for (std::size_t w = 1; w < jobs; ++w) workers.emplace_back(worker);
+  worker();
+  for (std::thread& t : workers) t.join();
+  if (failure) std::rethrow_exception(failure);
   const bool unfinished = std::any_of(suite["scenarios"].begin(), suite["scenarios"].end(),
                                       [](const nlohmann::json& r) { return r["status"] != "complete"; });
   if (stop.requested() && unfinished) {  // a signal during the last scenario loses nothing
@@ -520,6 +606,7 @@ int run_nightly(const NightlyOptions& o) {
                  double(budget.bytes) / (1024.0 * 1024.0), o.image_budget_mb);
     for (const std::string& name : budget.dropped)
       spdlog::warn("baseline image of {} dropped (over the budget): its changes show without relMSE or heat map", name);
+    log_seeds(seeds, seeds_added, o.baseline_dir);
   }
   suite["fail_on_change"] = o.fail_on_change;
   suite["fail_on_timing"] = o.fail_on_timing;
@@ -604,6 +691,7 @@ int run_nightly_scenario(const NightlyScenarioOptions& o) {
   options.out_dir = o.out_dir;
   options.device = o.device;
   options.seeds = o.seeds;
+  options.jobs = o.jobs;
   if (o.seeds && o.seed_index >= *o.seeds)
     throw InputError("--seed-index", "", fmt::format("an index below --seeds {}", *o.seeds));
   run_one(o.scenario, options, row, o.seed_index);
@@ -620,7 +708,8 @@ int run_baseline_update(const BaselineUpdateOptions& o) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(summary_path.string(), "", std::string("a nightly summary (") + e.what() + ")");
   }
-  std::size_t written = 0;
+  std::size_t written = 0, seeds_added = 0;
+  ReferenceSeeds seeds;
   std::set<std::filesystem::path> classes;
   for (const nlohmann::json& row : suite.value("scenarios", nlohmann::json::array())) {
     if (row.value("status", "") != "complete" || row.contains("error") || !row.contains("summary")) continue;
@@ -628,6 +717,8 @@ int run_baseline_update(const BaselineUpdateOptions& o) {
     const std::filesystem::path class_dir = o.baseline_dir / device_class(s.value("device", nlohmann::json::object()));
     write_baseline(class_dir, s, o.from / std::filesystem::path(row["summary"].get<std::string>()).parent_path());
     spdlog::info("baseline {}", baseline_file(class_dir, s["scenario"]["name"]).string());
+    seeds = keep_seeds(s, o.baseline_dir);
+    seeds_added += seeds.added;
     classes.insert(class_dir);
     ++written;
   }
@@ -638,6 +729,7 @@ int run_baseline_update(const BaselineUpdateOptions& o) {
                  o.image_budget_mb);
     for (const std::string& name : budget.dropped) spdlog::warn("baseline image of {} dropped (over the budget)", name);
   }
+  log_seeds(seeds, seeds_added, o.baseline_dir);
   return 0;
 }
 

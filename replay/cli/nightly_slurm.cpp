@@ -73,6 +73,7 @@ SlurmJobSpec spec_of(const NightlyOptions& o) {
   s.nightly_args.insert(s.nightly_args.end(), {"--scenario-timeout", fmt::format("{}", o.scenario_timeout)});
   // Each task runs its scenarios at every seed; the merge copies each scenario's folder (seed-<value>/ inside it).
   if (o.seeds) s.nightly_args.insert(s.nightly_args.end(), {"--seeds", std::to_string(*o.seeds)});
+  if (o.jobs > 1) s.nightly_args.insert(s.nightly_args.end(), {"--jobs", std::to_string(o.jobs)});  // within each task
   if (o.memory_limit_mb) s.nightly_args.insert(s.nightly_args.end(), {"--memory-limit-mb", std::to_string(*o.memory_limit_mb)});
   check_spec(s);
   const std::size_t scenarios = scenario_count(s.suite);
