@@ -55,6 +55,30 @@ void ignore_times(const std::filesystem::path& class_dir) {
   std::ofstream(class_dir / "tolerances.json") << R"([{"pattern": "timings/*", "kind": "ignore"}])";
 }
 
+// --update-baseline keeps the references the scenario was judged against as
+// seeds beside its baselines, and a night on a machine with an empty cache
+// reads them instead of rendering.
+void expect_reference_seeds(const test::TempDir& dir, const std::filesystem::path& suite,
+                            const std::filesystem::path& baselines, const test::CommandResult& first) {
+  const nlohmann::json summary = test::read_json(dir.path() / "out1/tiny_cornell/summary.json");
+  const std::vector<std::string> entries = summary.value("reference_entries", std::vector<std::string>());
+  ASSERT_FALSE(entries.empty()) << summary.dump(1).substr(0, 2000);
+  for (const std::string& e : entries) {
+    EXPECT_TRUE(std::filesystem::exists(baselines / "references" / (e + ".exr"))) << e;
+    EXPECT_TRUE(std::filesystem::exists(baselines / "references" / (e + ".json"))) << e;
+  }
+  EXPECT_NE(first.output.find("reference seeds in"), std::string::npos) << first.output;
+  const test::CommandResult fresh =
+      test::run_giharness("nightly --suite " + suite.string() + " --out " + (dir.path() / "out_fresh").string() +
+                              " --baseline " + baselines.string(),
+                          "GIHARNESS_CACHE_DIR=" + (dir.path() / "empty_cache").string());
+  EXPECT_EQ(fresh.exit_code, 0) << fresh.output;
+  const std::string checks = test::read_json(dir.path() / "out_fresh/tiny_cornell/summary.json")["checks"].dump();
+  EXPECT_NE(checks.find("\"reference_cached\":true"), std::string::npos) << checks.substr(0, 2000);
+  EXPECT_EQ(checks.find("\"reference_cached\":false"), std::string::npos) << checks.substr(0, 2000);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "empty_cache/reference" / (entries.front() + ".json")));
+}
+
 // A seeded regression that no check sees, only the baseline: the Cornell
 // light 5% dimmer (/scene/params/light_scale = 0.95) against a baseline of
 // the normal scene. (The issue's own seed, the 0.17 blend, is the next test.)
@@ -70,6 +94,7 @@ TEST(Nightly, SeededRegressionIsReportedWithBaselineMeasuredAndTolerance) {
   const std::filesystem::path class_dir = baselines / s1["device_class"].get<std::string>();
   ASSERT_TRUE(std::filesystem::exists(class_dir / "tiny_cornell.json")) << first.output;
   ignore_times(class_dir);
+  expect_reference_seeds(dir, good, baselines, first);
 
   // Control: the same scenario against its own baseline has no regression.
   const test::CommandResult same = test::run_giharness("nightly --suite " + good.string() + " --out " +

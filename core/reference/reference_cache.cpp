@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -165,6 +166,7 @@ std::uint64_t reference_cache_key(const Scene& scene, const ReferenceOptions& o)
 }
 
 std::filesystem::path reference_seed_dir() {
+  if (const char* dir = std::getenv("GIHARNESS_REFERENCE_SEEDS"); dir && *dir) return dir;
   try {
     return data_dir() / "reports/baselines/references";
   } catch (const DataDirError&) {

@@ -42,7 +42,9 @@ ReferenceResult cached_reference(const Scene& scene, const ReferenceOptions& opt
 // the Embree version, so a seed of another version is never read; Embree's
 // output is the same at any thread count but was not shown to be the same on
 // every CPU, so a seeded reference is the one the baselines saw, bit for bit.
-// The data folder's (core/data_dir.h); empty when there is none.
+// $GIHARNESS_REFERENCE_SEEDS (the nightly sets it to <baseline>/references
+// for its scenarios), else the data folder's (core/data_dir.h); empty when
+// there is none.
 std::filesystem::path reference_seed_dir();
 
 // The entries (file stems, "reference-<key>") this process used, read from

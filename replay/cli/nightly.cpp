@@ -24,6 +24,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <map>
@@ -476,6 +477,9 @@ int run_nightly(const NightlyOptions& o) {
   }
   if (!done.empty()) spdlog::info("resuming: {} of {} scenarios already complete", done.size(), files.size());
 
+  // The scenarios read their references' seeds from this night's baseline
+  // root, where --update-baseline writes them (core/reference/reference_cache.h).
+  ::setenv("GIHARNESS_REFERENCE_SEEDS", std::filesystem::absolute(o.baseline_dir / "references").c_str(), 1);
   StopSignals stop;
   // Rows to run, in suite order; --jobs N runs N of them at once, each in a
   // process of its own. The suite document is only touched under `mu`: a
