@@ -69,8 +69,8 @@ void Commands::add_to(CLI::App& app) {
   nightly_->add_option("--shard", nightly_options_.shard, "run shard i of n (i/n); merge with 'giharness merge'");
   nightly_->add_option("--junit", nightly_options_.junit, "JUnit XML file (default <out>/junit.xml)");
   nightly_->add_option("--jobs,-j", nightly_options_.jobs,
-                       "scenarios run at once, each in a process of its own (their timing then mostly goes "
-                       "unjudged: the machine is loaded)")
+                       "scenarios run at once, each in a process of its own; above 1 no timing is judged, no "
+                       "equal-time peers run and no baseline is written")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   nightly_->add_flag("--resume", nightly_options_.resume, "keep the completed scenarios of an interrupted run");

@@ -46,9 +46,10 @@ struct NightlyOptions {
   std::filesystem::path junit;    // default <out>/junit.xml
   bool resume = false;            // keep completed scenarios of <out>/summary.json
   // Scenarios run at once, each in a process of its own. On lavapipe a
-  // driver's compile is one thread, so 2 on 2 cores roughly halve a cold
-  // night; their frames then wait for a CPU and most timing goes unjudged
-  // (reports/timing_verdict.h, "Load"): time a night with 1.
+  // driver's compile is one thread, so 2 on 2 cores shorten a cold night by
+  // a third; their passes then wait for a CPU, so above 1 no timing is
+  // judged, no equal-time peers run and no baseline is written: time a
+  // night with 1.
   std::size_t jobs = 1;
   bool update_baseline = false;   // write this run's figures as the baseline
   bool confirm_timing = true;     // a timing regression is confirmed by a second run of the scenario
