@@ -8,9 +8,9 @@
 // C++. Needs bvh_types.h and watertight.h included before. No include guard
 // on purpose.
 //
-// Traversal is a stack loop over 4-wide nodes: one node fetch (64 bytes)
-// tests four quantised boxes with vec4 arithmetic, leaf children are intersected at once, and the
-// inner children hit are sorted near-first by a 5-exchange network: the
+// Traversal is one stack loop over the 4-wide nodes of both levels: one node
+// fetch (64 bytes) tests four quantised boxes with vec4 arithmetic, leaf
+// children are intersected at once, and the inner children hit are sorted near-first by a 5-exchange network: the
 // nearest is visited next, the others pushed far-first. The ray enters each
 // instance's object space through the instance's world-to-object matrix
 // without renormalising the direction, so object-space t equals world t.
@@ -72,23 +72,23 @@ GI_FN void bvh_order_pair(INOUT(float) ka, INOUT(uint) ca, INOUT(float) kb, INOU
   ca = c;
 }
 
-// The inner children of `n` that were hit and still start before tmax,
+// The inner children in `child` that were hit and still start before tmax,
 // nearest first: returns the nearest (BVH_CHILD_EMPTY if none) and pushes the
 // others onto the stack, farthest first.
-#define BVH_NEXT_INNER_CHILD(n, hit, tnear, tmax, stack, sp, next)                                    \
+#define BVH_NEXT_INNER_CHILD(child, hit, tnear, tmax, stack, sp, next)                                \
   {                                                                                                   \
-    bool v0 = hit.x && !bvh_is_leaf(n.child.x) && tnear.x <= tmax;                                    \
-    bool v1 = hit.y && !bvh_is_leaf(n.child.y) && tnear.y <= tmax;                                    \
-    bool v2 = hit.z && !bvh_is_leaf(n.child.z) && tnear.z <= tmax;                                    \
-    bool v3 = hit.w && !bvh_is_leaf(n.child.w) && tnear.w <= tmax;                                    \
+    bool v0 = hit.x && !bvh_is_leaf(child.x) && tnear.x <= tmax;                                      \
+    bool v1 = hit.y && !bvh_is_leaf(child.y) && tnear.y <= tmax;                                      \
+    bool v2 = hit.z && !bvh_is_leaf(child.z) && tnear.z <= tmax;                                      \
+    bool v3 = hit.w && !bvh_is_leaf(child.w) && tnear.w <= tmax;                                      \
     float k0 = v0 ? tnear.x : BVH_NO_KEY;                                                             \
     float k1 = v1 ? tnear.y : BVH_NO_KEY;                                                             \
     float k2 = v2 ? tnear.z : BVH_NO_KEY;                                                             \
     float k3 = v3 ? tnear.w : BVH_NO_KEY;                                                             \
-    uint c0 = v0 ? n.child.x : BVH_CHILD_EMPTY;                                                       \
-    uint c1 = v1 ? n.child.y : BVH_CHILD_EMPTY;                                                       \
-    uint c2 = v2 ? n.child.z : BVH_CHILD_EMPTY;                                                       \
-    uint c3 = v3 ? n.child.w : BVH_CHILD_EMPTY;                                                       \
+    uint c0 = v0 ? child.x : BVH_CHILD_EMPTY;                                                         \
+    uint c1 = v1 ? child.y : BVH_CHILD_EMPTY;                                                         \
+    uint c2 = v2 ? child.z : BVH_CHILD_EMPTY;                                                         \
+    uint c3 = v3 ? child.w : BVH_CHILD_EMPTY;                                                         \
     bvh_order_pair(k0, c0, k1, c1);                                                                   \
     bvh_order_pair(k2, c2, k3, c3);                                                                   \
     bvh_order_pair(k0, c0, k2, c2);                                                                   \
@@ -109,105 +109,121 @@ GI_FN void bvh_order_pair(INOUT(float) ka, INOUT(uint) ca, INOUT(float) kb, INOU
     next = c0;                                                                                        \
   }
 
-// One BLAS in object space; true if it found a hit closer than best_t (which
-// it then lowers).
-GI_FN bool bvh_traverse_blas(uint root, vec3 origin, vec3 dir, bool any_hit, INOUT(float) best_t,
-                             INOUT(uint) best_primitive, INOUT(vec2) best_bary) {
-  WatertightRay wr = watertight_ray(origin, dir);
-  vec3 inv = safe_inverse_direction(dir);
-  uint stack[BVH_BLAS_STACK_SIZE];
-  uint sp = 0u;
-  bool found = false;
-  // The root is read before the loop: where every lane enters the same BLAS
-  // (one instance under the TLAS root) lavapipe loads it once for all lanes.
-  BvhNode n = bvh_node(root);
-  for (;;) {
-    vec4 tnear;
-    bvec4 hit = bvh_ray_box4(n, origin, inv, best_t, tnear);
-    for (uint c = 0u; c < 4u; ++c) {
-      if (hit[c] && bvh_is_leaf(n.child[c])) {
-        if (bvh_intersect_triangles(bvh_leaf_first(n.child[c]), bvh_leaf_count(n.child[c]), wr, any_hit, best_t,
-                                    best_primitive, best_bary)) {
-          found = true;
-          if (any_hit) return true;
-        }
-      }
-    }
-    uint next;
-    BVH_NEXT_INNER_CHILD(n, hit, tnear, best_t, stack, sp, next)
-    if (next == BVH_CHILD_EMPTY) {
-      if (sp == 0u) break;
-      sp -= 1u;
-      next = stack[sp];
-    }
-    n = bvh_node(next);
-  }
-  return found;
-}
-
-GI_FN bool bvh_intersect_instances(uint first, uint count, vec3 origin, vec3 dir, bool any_hit,
-                                   INOUT(float) best_t, INOUT(uint) best_instance, INOUT(uint) best_primitive,
-                                   INOUT(vec2) best_bary) {
-  bool found = false;
-  for (uint i = first; i < first + count; ++i) {
-    BvhInstance r = bvh_instance_from_node(bvh_node(i));
-    mat3 m = mat3(r.world_to_object_c0, r.world_to_object_c1, r.world_to_object_c2);
-    vec3 o = m * origin + r.world_to_object_c3;
-    vec3 d = m * dir;
-    if (bvh_traverse_blas(r.blas_root, o, d, any_hit, best_t, best_primitive, best_bary)) {
-      best_instance = r.instance;
-      found = true;
-      if (any_hit) return true;
-    }
-  }
-  return found;
-}
-
-// The TLAS leaf children of `n` that the ray's box test hit; true if an
-// any-hit trace is done.
-GI_FN bool bvh_visit_instance_leaves(BvhNode n, bvec4 box_hit, vec3 origin, vec3 dir, bool any_hit,
-                                     INOUT(float) best_t, INOUT(uint) best_instance, INOUT(uint) best_primitive,
-                                     INOUT(vec2) best_bary, INOUT(bool) found) {
-  for (uint c = 0u; c < 4u; ++c) {
-    if (box_hit[c] && bvh_is_leaf(n.child[c])) {
-      if (bvh_intersect_instances(bvh_leaf_first(n.child[c]), bvh_leaf_count(n.child[c]), origin, dir, any_hit,
-                                  best_t, best_instance, best_primitive, best_bary)) {
-        found = true;
-        if (any_hit) return true;
-      }
-    }
-  }
-  return false;
-}
-
 // Closest hit (any_hit = false) or the first hit found (any_hit = true) with
 // 0 < t < tmax, from the TLAS root (node 0).
+//
+// Both levels are walked by one loop, with one box test and one child sort:
+// the shader compiler inlines the whole traversal at every trace call, and a
+// loop per level put two copies of each in every call (lavapipe compiles
+// each copy with LLVM, which is most of a GI shader's compile). The BLAS
+// stack sits on top of the TLAS stack in one array. While a TLAS node's
+// instance leaves are walked, the node's children, box hits and entry
+// distances wait in tlas_*, with a cursor (slot leaf_c next; instances
+// [leaf_i, leaf_end) of the slot being walked). Nodes, instances and
+// triangles are visited in the order a loop per level visits them (slots
+// 0..3, instances in index order, the node's inner children after its
+// instances, against the lowered best_t), with the same arithmetic: the
+// same bits.
 GI_FN bool bvh_trace(vec3 origin, vec3 dir, float tmax, bool any_hit, OUT(Hit) hit) {
-  vec3 inv = safe_inverse_direction(dir);
-  uint stack[BVH_TLAS_STACK_SIZE];
+  vec3 world_inv = safe_inverse_direction(dir);
+  uint stack[BVH_TLAS_STACK_SIZE + BVH_BLAS_STACK_SIZE];
   uint sp = 0u;
   float best_t = tmax;
   uint best_instance = 0u;
   uint best_primitive = 0u;
   vec2 best_bary = vec2(0.0f);
   bool found = false;
-  // One visit loop from the root: a copy of the root's visit before the loop
-  // (which let lavapipe load node 0 once for all lanes) put a second BLAS
-  // traversal in every trace call, and the shader compiler inlines the whole
-  // traversal at each call; the GI shaders' compile on lavapipe took twice as
-  // long. Same nodes in the same order: the same bits.
+  // The ray of the level being walked: world space in the TLAS, the
+  // instance's object space (direction not renormalised) in a BLAS.
+  vec3 ray_origin = origin;
+  vec3 ray_inv = world_inv;
+  WatertightRay wr;
+  bool in_blas = false;
+  uint blas_base = 0u;  // the stack depth below the BLAS being walked
+  uint blas_instance = 0u;
+  bool blas_found = false;
+  uvec4 tlas_child = uvec4(BVH_CHILD_EMPTY);
+  bvec4 tlas_hit = bvec4(false);
+  vec4 tlas_near = vec4(0.0f);
+  uint leaf_c = 4u;
+  uint leaf_i = 0u;
+  uint leaf_end = 0u;
   uint node = 0u;
-  while (node != BVH_CHILD_EMPTY) {
-    BvhNode n = bvh_node(node);
-    vec4 tnear;
-    bvec4 box_hit = bvh_ray_box4(n, origin, inv, best_t, tnear);
-    if (bvh_visit_instance_leaves(n, box_hit, origin, dir, any_hit, best_t, best_instance, best_primitive,
-                                  best_bary, found))
-      break;
+  for (;;) {
+    // node is BVH_CHILD_EMPTY on the step after a BLAS: the TLAS node waiting
+    // in tlas_* goes on with its next instance.
+    uvec4 child = tlas_child;
+    bvec4 box_hit = tlas_hit;
+    vec4 tnear = tlas_near;
+    if (node != BVH_CHILD_EMPTY) {
+      BvhNode n = bvh_node(node);
+      child = n.child;
+      box_hit = bvh_ray_box4(n, ray_origin, ray_inv, best_t, tnear);
+      if (!in_blas) {
+        tlas_child = child;
+        tlas_hit = box_hit;
+        tlas_near = tnear;
+        leaf_c = 0u;
+        leaf_i = 0u;
+        leaf_end = 0u;
+      }
+    }
+    if (in_blas) {
+      for (uint c = 0u; c < 4u; ++c) {
+        if (box_hit[c] && bvh_is_leaf(child[c])) {
+          if (bvh_intersect_triangles(bvh_leaf_first(child[c]), bvh_leaf_count(child[c]), wr, any_hit, best_t,
+                                      best_primitive, best_bary)) {
+            blas_found = true;
+            if (any_hit) break;
+          }
+        }
+      }
+      if (any_hit && blas_found) {
+        best_instance = blas_instance;
+        found = true;
+        break;
+      }
+    } else {
+      while (leaf_i == leaf_end && leaf_c < 4u) {
+        if (tlas_hit[leaf_c] && bvh_is_leaf(tlas_child[leaf_c])) {
+          leaf_i = bvh_leaf_first(tlas_child[leaf_c]);
+          leaf_end = leaf_i + bvh_leaf_count(tlas_child[leaf_c]);
+        }
+        leaf_c += 1u;
+      }
+      if (leaf_i < leaf_end) {
+        BvhInstance r = bvh_instance_from_node(bvh_node(leaf_i));
+        leaf_i += 1u;
+        mat3 m = mat3(r.world_to_object_c0, r.world_to_object_c1, r.world_to_object_c2);
+        ray_origin = m * origin + r.world_to_object_c3;
+        vec3 d = m * dir;
+        ray_inv = safe_inverse_direction(d);
+        wr = watertight_ray(ray_origin, d);
+        in_blas = true;
+        blas_base = sp;
+        blas_instance = r.instance;
+        blas_found = false;
+        node = r.blas_root;
+        continue;
+      }
+    }
     uint next;
-    BVH_NEXT_INNER_CHILD(n, box_hit, tnear, best_t, stack, sp, next)
+    BVH_NEXT_INNER_CHILD(child, box_hit, tnear, best_t, stack, sp, next)
     if (next == BVH_CHILD_EMPTY) {
-      if (sp == 0u) break;
+      if (sp == blas_base) {
+        if (!in_blas) break;
+        // The BLAS is done: back to its TLAS node's next instance.
+        if (blas_found) {
+          best_instance = blas_instance;
+          found = true;
+        }
+        in_blas = false;
+        blas_base = 0u;
+        ray_origin = origin;
+        ray_inv = world_inv;
+        node = BVH_CHILD_EMPTY;
+        continue;
+      }
       sp -= 1u;
       next = stack[sp];
     }
