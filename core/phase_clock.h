@@ -22,6 +22,7 @@ inline constexpr const char* kScene = "scene";                   // the scenario
 inline constexpr const char* kGpuSetup = "gpu_setup";            // the pipelines' buffers, the BVH, uploads
 inline constexpr const char* kSummary = "summary";               // summary.json and what it computes
 inline constexpr const char* kEqualTime = "equal_time";          // the equal-time peers (--equal-time, the nightly's)
+inline constexpr const char* kShaderPrewarm = "shader_prewarm";  // waiting for the driver's compile ahead (gpu/shader_prewarm.h)
 }  // namespace phase
 
 // Seconds per phase, exclusive of nested phases, since the process started.

@@ -14,6 +14,7 @@
 #include "gpu/buffer.h"
 #include "gpu/device.h"
 #include "gpu/pipeline_cache.h"
+#include "gpu/shader_prewarm.h"
 #include "gpu/shaders/bindings.h"
 
 namespace gi::gpu {
@@ -99,7 +100,7 @@ Buffer make_dfg_lut_buffer(Device& device) {
 
 ComputePass::ComputePass(Device& device, std::string name, std::span<const std::uint32_t> spirv,
                          std::vector<DescriptorBinding> bindings, std::uint32_t push_constant_bytes)
-    : device_(device.handle()), name_(std::move(name)), bindings_(std::move(bindings)),
+    : device_(device.handle()), prewarm_(device.prewarm()), name_(std::move(name)), bindings_(std::move(bindings)),
       push_bytes_(push_constant_bytes) {
   test_slowdown();  // a malformed GIHARNESS_TEST_SLOW_PASS is bad input before any recording
   if (device.backend() == TraceBackend::bvh) {
@@ -158,6 +159,7 @@ ComputePass& ComputePass::operator=(ComputePass&& other) noexcept {
   if (this != &other) {
     destroy();
     device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+    prewarm_ = std::exchange(other.prewarm_, nullptr);
     name_ = std::move(other.name_);
     bindings_ = std::move(other.bindings_);
     push_bytes_ = other.push_bytes_;
@@ -239,6 +241,7 @@ void ComputePass::bind_previous_scene(const SceneResources& scene) {
 
 void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t gy, std::uint32_t gz,
                            const void* push) const {
+  if (prewarm_) prewarm_->drain();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   if (push_bytes_ && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
@@ -249,6 +252,7 @@ void ComputePass::dispatch(VkCommandBuffer cmd, std::uint32_t gx, std::uint32_t 
 
 void ComputePass::dispatch_indirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset,
                                     const void* push) const {
+  if (prewarm_) prewarm_->drain();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   if (push_bytes_ && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);

@@ -14,6 +14,7 @@ namespace gi::gpu {
 
 class Buffer;
 class Device;
+class ShaderPrewarm;
 
 struct DescriptorBinding {
   std::uint32_t binding;
@@ -90,6 +91,9 @@ class ComputePass {
   VkDescriptorType type_of(std::uint32_t binding) const;
 
   VkDevice device_ = VK_NULL_HANDLE;
+  // The device's compiles ahead (null where none): a dispatch waits for them,
+  // so that the driver finds this pipeline's code compiled.
+  ShaderPrewarm* prewarm_ = nullptr;
   std::string name_;
   std::vector<DescriptorBinding> bindings_;
   std::uint32_t push_bytes_ = 0;

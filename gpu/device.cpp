@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include <cstdlib>
+#include <cctype>
 #include <cstring>
 #include <regex>
 #include <utility>
@@ -14,6 +15,7 @@
 #include "core/errors.h"
 #include "gpu/buffer.h"
 #include "gpu/pipeline_cache.h"
+#include "gpu/shader_prewarm.h"
 
 namespace gi::gpu {
 
@@ -245,7 +247,20 @@ std::vector<std::string> Device::list_devices() {
   return out;
 }
 
-Device::Device(std::optional<int> index, BackendRequest request) {
+namespace {
+
+// Mesa's own reading of MESA_SHADER_CACHE_DISABLE (a boolean option).
+bool mesa_disk_cache_disabled() {
+  const char* env = std::getenv("MESA_SHADER_CACHE_DISABLE");
+  if (!env) return false;
+  std::string v(env);
+  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return v == "1" || v == "true" || v == "yes" || v == "y" || v == "t";
+}
+
+}  // namespace
+
+Device::Device(std::optional<int> index, BackendRequest request, DeviceRole role) {
   const char* env_validation = std::getenv("GIHARNESS_VALIDATION");
   if (env_validation && std::string(env_validation) == "1") {
     validation_ = layer_available("VK_LAYER_KHRONOS_validation");
@@ -389,7 +404,12 @@ Device::Device(std::optional<int> index, BackendRequest request) {
     check_vk(vkCreateCommandPool(device_, &pci, nullptr, &pool_), "vkCreateCommandPool");
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     check_vk(vkCreateFence(device_, &fci, nullptr, &fence_), "vkCreateFence");
-    pipelines_ = std::make_unique<PipelineCache>(device_);
+    if (role == DeviceRole::main && info_.driver_name == "llvmpipe" && !validation_ && !mesa_disk_cache_disabled()) {
+      const unsigned threads = ShaderPrewarm::threads_setting();
+      if (threads > 0) prewarm_ = std::make_unique<ShaderPrewarm>(info_.device_index, backend_,
+                                                            info_.name + " " + info_.driver_info, threads);
+    }
+    pipelines_ = std::make_unique<PipelineCache>(device_, prewarm_.get(), role == DeviceRole::main);
   } catch (...) {
     destroy();
     throw;
@@ -403,6 +423,7 @@ void Device::destroy() noexcept {
     if (in_flight_) vkFreeCommandBuffers(device_, pool_, 1, &in_flight_);
     in_flight_ = VK_NULL_HANDLE;
     staging_.reset();
+    prewarm_.reset();
     pipelines_.reset();
     if (fence_) vkDestroyFence(device_, fence_, nullptr);
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
@@ -438,6 +459,7 @@ Device& Device::operator=(Device&& other) noexcept {
     staged_buffers_ = other.staged_buffers_;
     staging_ = std::move(other.staging_);
     transfers_ = other.transfers_;
+    prewarm_ = std::move(other.prewarm_);
     pipelines_ = std::move(other.pipelines_);
     in_flight_ = std::exchange(other.in_flight_, VK_NULL_HANDLE);
   }

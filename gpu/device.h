@@ -16,6 +16,11 @@
 namespace gi::gpu {
 
 class PipelineCache;
+class ShaderPrewarm;
+
+// What a Device is for: a run's (main), or a worker's of gpu/shader_prewarm.h,
+// which compiles the main device's pipelines ahead and prewarms nothing itself.
+enum class DeviceRole { main, shader_prewarm };
 
 // Throws gi::DeviceError naming the call and the VkResult unless result is VK_SUCCESS.
 void check_vk(VkResult result, const char* what);
@@ -76,7 +81,10 @@ class Device {
   // enables its extensions; `bvh` enables none of them, so it runs on devices
   // without (stock bookworm Mesa 22, NVIDIA H100/H200).
   // Set GIHARNESS_VALIDATION=1 to enable VK_LAYER_KHRONOS_validation (when installed).
-  explicit Device(std::optional<int> index = std::nullopt, BackendRequest backend = BackendRequest::rayquery);
+  // A main device on lavapipe compiles its pipelines ahead (gpu/shader_prewarm.h)
+  // unless validation is on, Mesa's disk cache is off, or the setting says 0.
+  explicit Device(std::optional<int> index = std::nullopt, BackendRequest backend = BackendRequest::rayquery,
+                  DeviceRole role = DeviceRole::main);
   ~Device();
   Device(Device&& other) noexcept;
   Device& operator=(Device&& other) noexcept;
@@ -117,6 +125,8 @@ class Device {
   const TransferCounts& transfers() const { return transfers_; }
   // Compute pipelines shared by this device's passes (gpu/pipeline_cache.h).
   PipelineCache& pipelines() { return *pipelines_; }
+  // The compiles ahead of this device's pipelines; null where there are none.
+  ShaderPrewarm* prewarm() { return prewarm_.get(); }
   void count_transfer(bool download, std::uint64_t bytes) {
     (download ? transfers_.downloaded : transfers_.uploaded) += bytes;
     ++(download ? transfers_.downloads : transfers_.uploads);
@@ -162,6 +172,7 @@ class Device {
   VkCommandBuffer in_flight_ = VK_NULL_HANDLE;  // submitted, not yet waited for
   std::unique_ptr<Buffer> staging_;
   TransferCounts transfers_;
+  std::unique_ptr<ShaderPrewarm> prewarm_;  // before pipelines_, which holds a pointer to it
   std::unique_ptr<PipelineCache> pipelines_;
 };
 

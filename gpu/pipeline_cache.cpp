@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -11,6 +12,7 @@
 #include "core/phase_clock.h"
 #include "gpu/compute_pass.h"
 #include "gpu/device.h"
+#include "gpu/shader_prewarm.h"
 
 namespace gi::gpu {
 
@@ -41,13 +43,15 @@ const SharedPipeline& PipelineCache::get(const std::string& name, std::span<cons
   }
   Entry e{{spirv.begin(), spirv.end()}, std::move(layout), push_constant_bytes,
           std::make_unique<SharedPipeline>(create(name, spirv, bindings, push_constant_bytes))};
+  if (prewarm_) prewarm_->add(name, spirv, bindings, push_constant_bytes);
   return *entries_.emplace(key, std::move(e))->second.pipeline;
 }
 
 SharedPipeline PipelineCache::create(const std::string& name, std::span<const std::uint32_t> spirv,
                                      const std::vector<DescriptorBinding>& bindings,
                                      std::uint32_t push_constant_bytes) const {
-  const PhaseScope timed(phase::kPipelines);
+  std::optional<PhaseScope> timed;
+  if (timed_) timed.emplace(phase::kPipelines);
   SharedPipeline p;
   try {
     VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

@@ -22,6 +22,7 @@
 namespace gi::gpu {
 
 struct DescriptorBinding;
+class ShaderPrewarm;
 
 // A compute pipeline with its layouts (set 0 holds `bindings`).
 struct SharedPipeline {
@@ -33,7 +34,11 @@ struct SharedPipeline {
 
 class PipelineCache {
  public:
-  explicit PipelineCache(VkDevice device) : device_(device) {}
+  // prewarm: compiles each new pipeline ahead (may be null). timed: creation
+  // counts as the "pipelines" phase (not on a prewarm worker's device, whose
+  // time the main thread's wait already counts).
+  PipelineCache(VkDevice device, ShaderPrewarm* prewarm, bool timed)
+      : device_(device), prewarm_(prewarm), timed_(timed) {}
   ~PipelineCache();  // destroys every pipeline: before the device
   PipelineCache(const PipelineCache&) = delete;
   PipelineCache& operator=(const PipelineCache&) = delete;
@@ -57,6 +62,8 @@ class PipelineCache {
   void destroy(const SharedPipeline& p) const noexcept;
 
   VkDevice device_;
+  ShaderPrewarm* prewarm_;
+  bool timed_;
   mutable std::mutex mutex_;
   std::multimap<std::uint64_t, Entry> entries_;  // by a hash of the SPIR-V; compared in full
 };
