@@ -480,6 +480,14 @@ int run_nightly(const NightlyOptions& o) {
   // The scenarios read their references' seeds from this night's baseline
   // root, where --update-baseline writes them (core/reference/reference_cache.h).
   ::setenv("GIHARNESS_REFERENCE_SEEDS", std::filesystem::absolute(o.baseline_dir / "references").c_str(), 1);
+  // Scenarios side by side already keep the cores busy: each compiles its
+  // shaders ahead (gpu/shader_prewarm.h) only on a share of two cores or
+  // more, else not at all (on 2 cores at --jobs 2 the workers made the cold
+  // night 604 s against 545 s without). The environment's setting wins.
+  if (o.jobs > 1 && !std::getenv("GIHARNESS_SHADER_PREWARM_THREADS")) {
+    const unsigned share = std::max(1u, std::thread::hardware_concurrency()) / unsigned(o.jobs);
+    ::setenv("GIHARNESS_SHADER_PREWARM_THREADS", std::to_string(share >= 2 ? share : 0).c_str(), 1);
+  }
   StopSignals stop;
   // Rows to run, in suite order; --jobs N runs N of them at once, each in a
   // process of its own. The suite document is only touched under `mu`: a
