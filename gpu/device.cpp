@@ -260,7 +260,7 @@ bool mesa_disk_cache_disabled() {
 
 }  // namespace
 
-Device::Device(std::optional<int> index, BackendRequest request, DeviceRole role) {
+Device::Device(std::optional<int> index, BackendRequest request, DeviceRole role) : role_(role) {
   const char* env_validation = std::getenv("GIHARNESS_VALIDATION");
   if (env_validation && std::string(env_validation) == "1") {
     validation_ = layer_available("VK_LAYER_KHRONOS_validation");
@@ -457,6 +457,7 @@ Device& Device::operator=(Device&& other) noexcept {
     validation_ = other.validation_;
     backend_ = other.backend_;
     staged_buffers_ = other.staged_buffers_;
+    role_ = other.role_;
     staging_ = std::move(other.staging_);
     transfers_ = other.transfers_;
     prewarm_ = std::move(other.prewarm_);
@@ -508,7 +509,10 @@ void Device::submit(const std::function<void(VkCommandBuffer)>& record) {
 
 void Device::wait() {
   if (in_flight_ == VK_NULL_HANDLE) return;
-  const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, gpu_timeout_ns());
+  // A prewarm worker's submission is a compile only, and its fault would end
+  // the process from a worker thread: it waits as long as the compile takes.
+  const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE,
+                                          role_ == DeviceRole::shader_prewarm ? UINT64_MAX : gpu_timeout_ns());
   if (waited == VK_TIMEOUT || waited == VK_ERROR_DEVICE_LOST) {
     const std::string message =
         waited == VK_TIMEOUT

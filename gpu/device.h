@@ -168,6 +168,7 @@ class Device {
   bool validation_ = false;
   TraceBackend backend_ = TraceBackend::rayquery;
   bool staged_buffers_ = false;
+  DeviceRole role_ = DeviceRole::main;
   bool recording_ = false;  // inside submit_and_wait's record callback
   VkCommandBuffer in_flight_ = VK_NULL_HANDLE;  // submitted, not yet waited for
   std::unique_ptr<Buffer> staging_;

@@ -82,6 +82,7 @@ void ShaderPrewarm::add(const std::string& name, std::span<const std::uint32_t> 
 }
 
 void ShaderPrewarm::drain() {
+  const std::lock_guard drain_lock(drain_mutex_);
   std::vector<std::thread> workers;
   {
     std::lock_guard lock(mutex_);

@@ -23,9 +23,8 @@
 // without this.
 //
 // The setting: GIHARNESS_SHADER_PREWARM_THREADS, the number of workers
-// (0: off); without it, one per CPU core, also under `nightly --jobs N`: a
-// core that one scenario leaves idle (its set-up, a single-threaded phase,
-// the night's last scenario) is the other's to compile on.
+// (0: off); without it, one per CPU core. `nightly --jobs N` gives each
+// scenario its share of the cores, or none below two (replay/cli/nightly.cpp).
 #pragma once
 #include <condition_variable>
 #include <cstdint>
@@ -81,6 +80,7 @@ class ShaderPrewarm {
   unsigned threads_;
   std::filesystem::path marker_dir_;
   std::string driver_;
+  std::mutex drain_mutex_;  // one drain at a time: a second caller waits for the first
   std::mutex mutex_;
   std::condition_variable work_ready_;
   std::deque<Job> queue_;
