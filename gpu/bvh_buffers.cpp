@@ -6,9 +6,13 @@
 
 namespace gi::gpu {
 
-std::vector<ShaderDefine> trace_backend_defines(TraceBackend backend) {
-  if (backend == TraceBackend::bvh) return {{"TRACE_BACKEND_BVH", ""}};
-  return {};
+std::vector<ShaderDefine> trace_backend_defines(const Device& device) {
+  if (device.backend() != TraceBackend::bvh) return {};
+  // On a CPU device (lavapipe) the shader compiler's time is what counts: the
+  // one-loop traversal compiles in three quarters of the time; on a GPU the
+  // loop per level runs faster (core/shared/bvh_traverse.h). Same bits.
+  if (device.info().device_type == "cpu") return {{"TRACE_BACKEND_BVH", ""}, {"BVH_TRAVERSAL_ONE_LOOP", ""}};
+  return {{"TRACE_BACKEND_BVH", ""}};
 }
 
 BvhBuffers::BvhBuffers(Device& device, const FlatGeometry& geometry) : device_(device), bvh_(geometry) {

@@ -17,8 +17,9 @@
 namespace gi::gpu {
 
 // The defines that select a backend's trace_closest/trace_unoccluded in
-// gpu/shaders/scene_bindings.glsl: TRACE_BACKEND_BVH for bvh, none for rayquery.
-std::vector<ShaderDefine> trace_backend_defines(TraceBackend backend);
+// gpu/shaders/scene_bindings.glsl: TRACE_BACKEND_BVH for bvh (with
+// BVH_TRAVERSAL_ONE_LOOP on CPU devices), none for rayquery.
+std::vector<ShaderDefine> trace_backend_defines(const Device& device);
 
 class BvhBuffers {
  public:

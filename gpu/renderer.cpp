@@ -47,7 +47,7 @@ Renderer::Renderer(Device& device, ShaderCompiler& compiler, const FlatGeometry&
     throw DeviceError(fmt::format("Renderer: resolution {}x{} is empty", options.width, options.height));
   // The tracing backend: its acceleration structure, and its shader variant
   // for every pass compiled from here on (passes never know which runs).
-  std::vector<ShaderDefine> defines = trace_backend_defines(device.backend());
+  std::vector<ShaderDefine> defines = trace_backend_defines(device);
   defines.push_back({"NORMAL_MAP_DECODE", std::to_string(options.normal_map_decode)});
   compiler.set_global_defines(std::move(defines));
   if (device.backend() == TraceBackend::bvh) bvh_.emplace(device, geometry);

@@ -352,4 +352,40 @@ TEST(BvhCpuTwin, AgreesWithEmbreeOnACliff) {
   EXPECT_LT(max_rel, 1e-4);
 }
 
+// The traversal's two forms (core/shared/bvh_traverse.h: one loop for both
+// levels on CPU devices, a loop per level on GPUs) give the same bits: the
+// same hit, t, instance, primitive and barycentrics for every ray, closest
+// and any-hit, in a scene of many instances (the Cornell box) and one of
+// many triangles (the cliff).
+TEST(BvhCpuTwin, BothTraversalFormsGiveTheSameBits) {
+  gi::CliffOptions cliff;
+  cliff.triangles = 20000;
+  for (const gi::Scene& scene : {gi::make_cornell_box(), gi::make_cliff_scene(cliff)}) {
+    const gi::FlatGeometry geometry = gi::flatten_geometry(scene);
+    const gi::FlatInstances flat = gi::flatten_instances(scene, geometry);
+    const std::vector<bool> visible = scene.visible_instances();
+    gi::bvh::SceneBvh bvh(geometry);
+    bvh.update(flat.instances, visible);
+    gi::bvh::RaySetOptions ro;
+    ro.count = 20000;
+    ro.camera = gi::make_gpu_camera(scene.camera, 64, 64);
+    const auto rays = gi::bvh::make_ray_set(geometry, flat, visible, ro);
+    gi::shader::BvhCpuTracer one_loop(bvh);
+    gi::shader::BvhCpuTracerPerLevel per_level(bvh);
+    int hits = 0, differ = 0;
+    for (const auto& r : rays) {
+      for (const bool any_hit : {false, true}) {
+        gi::shader::Hit a, b;
+        const bool found_a = one_loop.bvh_trace(r.origin, r.direction, r.tmax, any_hit, a);
+        const bool found_b = per_level.bvh_trace(r.origin, r.direction, r.tmax, any_hit, b);
+        hits += found_a && !any_hit;
+        differ += found_a != found_b || std::memcmp(&a.t, &b.t, sizeof a.t) != 0 || a.instance != b.instance ||
+                  a.primitive != b.primitive || std::memcmp(&a.barycentrics, &b.barycentrics, sizeof a.barycentrics) != 0;
+      }
+    }
+    EXPECT_GT(hits, int(rays.size() / 4));
+    EXPECT_EQ(differ, 0) << "of " << 2 * rays.size() << " traces";
+  }
+}
+
 }  // namespace

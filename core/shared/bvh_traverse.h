@@ -8,7 +8,7 @@
 // C++. Needs bvh_types.h and watertight.h included before. No include guard
 // on purpose.
 //
-// Traversal is one stack loop over the 4-wide nodes of both levels: one node
+// Traversal is a stack loop over the 4-wide nodes of both levels: one node
 // fetch (64 bytes) tests four quantised boxes with vec4 arithmetic, leaf
 // children are intersected at once, and the inner children hit are sorted near-first by a 5-exchange network: the
 // nearest is visited next, the others pushed far-first. The ray enters each
@@ -110,8 +110,11 @@ GI_FN void bvh_order_pair(INOUT(float) ka, INOUT(uint) ca, INOUT(float) kb, INOU
   }
 
 // Closest hit (any_hit = false) or the first hit found (any_hit = true) with
-// 0 < t < tmax, from the TLAS root (node 0).
-//
+// 0 < t < tmax, from the TLAS root (node 0), in one of two forms that visit
+// the same nodes in the same order with the same arithmetic (the same bits,
+// tests/bvh_test.cpp): BVH_TRAVERSAL_ONE_LOOP (defined for CPU devices,
+// gpu/bvh_buffers.cpp) or a loop per level.
+#ifdef BVH_TRAVERSAL_ONE_LOOP
 // Both levels are walked by one loop, with one box test and one child sort:
 // the shader compiler inlines the whole traversal at every trace call, and a
 // loop per level put two copies of each in every call (lavapipe compiles
@@ -235,3 +238,117 @@ GI_FN bool bvh_trace(vec3 origin, vec3 dir, float tmax, bool any_hit, OUT(Hit) h
   hit.barycentrics = best_bary;
   return found;
 }
+#else
+
+// One BLAS in object space; true if it found a hit closer than best_t (which
+// it then lowers).
+GI_FN bool bvh_traverse_blas(uint root, vec3 origin, vec3 dir, bool any_hit, INOUT(float) best_t,
+                             INOUT(uint) best_primitive, INOUT(vec2) best_bary) {
+  WatertightRay wr = watertight_ray(origin, dir);
+  vec3 inv = safe_inverse_direction(dir);
+  uint stack[BVH_BLAS_STACK_SIZE];
+  uint sp = 0u;
+  bool found = false;
+  // The root is read before the loop: where every lane enters the same BLAS
+  // (one instance under the TLAS root) lavapipe loads it once for all lanes.
+  BvhNode n = bvh_node(root);
+  for (;;) {
+    vec4 tnear;
+    bvec4 hit = bvh_ray_box4(n, origin, inv, best_t, tnear);
+    for (uint c = 0u; c < 4u; ++c) {
+      if (hit[c] && bvh_is_leaf(n.child[c])) {
+        if (bvh_intersect_triangles(bvh_leaf_first(n.child[c]), bvh_leaf_count(n.child[c]), wr, any_hit, best_t,
+                                    best_primitive, best_bary)) {
+          found = true;
+          if (any_hit) return true;
+        }
+      }
+    }
+    uint next;
+    BVH_NEXT_INNER_CHILD(n.child, hit, tnear, best_t, stack, sp, next)
+    if (next == BVH_CHILD_EMPTY) {
+      if (sp == 0u) break;
+      sp -= 1u;
+      next = stack[sp];
+    }
+    n = bvh_node(next);
+  }
+  return found;
+}
+
+GI_FN bool bvh_intersect_instances(uint first, uint count, vec3 origin, vec3 dir, bool any_hit,
+                                   INOUT(float) best_t, INOUT(uint) best_instance, INOUT(uint) best_primitive,
+                                   INOUT(vec2) best_bary) {
+  bool found = false;
+  for (uint i = first; i < first + count; ++i) {
+    BvhInstance r = bvh_instance_from_node(bvh_node(i));
+    mat3 m = mat3(r.world_to_object_c0, r.world_to_object_c1, r.world_to_object_c2);
+    vec3 o = m * origin + r.world_to_object_c3;
+    vec3 d = m * dir;
+    if (bvh_traverse_blas(r.blas_root, o, d, any_hit, best_t, best_primitive, best_bary)) {
+      best_instance = r.instance;
+      found = true;
+      if (any_hit) return true;
+    }
+  }
+  return found;
+}
+
+// The TLAS leaf children of `n` that the ray's box test hit; true if an
+// any-hit trace is done.
+GI_FN bool bvh_visit_instance_leaves(BvhNode n, bvec4 box_hit, vec3 origin, vec3 dir, bool any_hit,
+                                     INOUT(float) best_t, INOUT(uint) best_instance, INOUT(uint) best_primitive,
+                                     INOUT(vec2) best_bary, INOUT(bool) found) {
+  for (uint c = 0u; c < 4u; ++c) {
+    if (box_hit[c] && bvh_is_leaf(n.child[c])) {
+      if (bvh_intersect_instances(bvh_leaf_first(n.child[c]), bvh_leaf_count(n.child[c]), origin, dir, any_hit,
+                                  best_t, best_instance, best_primitive, best_bary)) {
+        found = true;
+        if (any_hit) return true;
+      }
+    }
+  }
+  return false;
+}
+
+// A loop per level: on a GPU, where the shader compiler's time is no concern,
+// the BLAS loop stays tight (the one loop made the H100's pipeline passes
+// 6.5 % slower: reports/benchmarks/h100-unified-traversal-ab.json).
+GI_FN bool bvh_trace(vec3 origin, vec3 dir, float tmax, bool any_hit, OUT(Hit) hit) {
+  vec3 inv = safe_inverse_direction(dir);
+  uint stack[BVH_TLAS_STACK_SIZE];
+  uint sp = 0u;
+  float best_t = tmax;
+  uint best_instance = 0u;
+  uint best_primitive = 0u;
+  vec2 best_bary = vec2(0.0f);
+  bool found = false;
+  // One visit loop from the root: a copy of the root's visit before the loop
+  // (which let lavapipe load node 0 once for all lanes) put a second BLAS
+  // traversal in every trace call, and the shader compiler inlines the whole
+  // traversal at each call; the GI shaders' compile on lavapipe took twice as
+  // long. Same nodes in the same order: the same bits.
+  uint node = 0u;
+  while (node != BVH_CHILD_EMPTY) {
+    BvhNode n = bvh_node(node);
+    vec4 tnear;
+    bvec4 box_hit = bvh_ray_box4(n, origin, inv, best_t, tnear);
+    if (bvh_visit_instance_leaves(n, box_hit, origin, dir, any_hit, best_t, best_instance, best_primitive,
+                                  best_bary, found))
+      break;
+    uint next;
+    BVH_NEXT_INNER_CHILD(n.child, box_hit, tnear, best_t, stack, sp, next)
+    if (next == BVH_CHILD_EMPTY) {
+      if (sp == 0u) break;
+      sp -= 1u;
+      next = stack[sp];
+    }
+    node = next;
+  }
+  hit.t = best_t;
+  hit.instance = best_instance;
+  hit.primitive = best_primitive;
+  hit.barycentrics = best_bary;
+  return found;
+}
+#endif

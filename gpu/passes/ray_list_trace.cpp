@@ -27,7 +27,7 @@ VkBufferUsageFlags geometry_usage(const Device& device) {
 }
 
 ComputePass make_pass(Device& device, ShaderCompiler& compiler) {
-  compiler.set_global_defines(trace_backend_defines(device.backend()));
+  compiler.set_global_defines(trace_backend_defines(device));
   std::vector<DescriptorBinding> bindings = scene_descriptor_bindings();
   bindings.push_back({BINDING_TEST_RAYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   bindings.push_back({BINDING_TEST_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});

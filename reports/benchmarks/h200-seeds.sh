@@ -7,6 +7,9 @@
 set -e
 suite=$1 seeds=$2 shards=$3 name=$4
 mkdir -p /tmp/b && tar -C /tmp/b -xzf .devbundle/bundle.tgz
+# The generated atrium is git-ignored, so it does not travel with the tree.
+[ -f scenarios/assets/generated/atrium_1m.glb ] || python3 scenarios/assets/make_atrium.py --triangles 1000000 \
+  --materials 64 --glb --name atrium_1m --out scenarios/assets/generated > /dev/null
 export VK_ICD_FILENAMES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json LD_LIBRARY_PATH=/tmp/b/lib
 G=/tmp/b/bin/giharness
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader | tee $OUT/$name.log
