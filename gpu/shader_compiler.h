@@ -57,7 +57,7 @@ class ShaderCompiler {
                                 const std::vector<ShaderDefine>& defines = {});
 
   // Defines added to every compile from now on, before the call's own: the
-  // tracing backend's variant (gpu/trace_backend.h's trace_backend_defines),
+  // tracing backend's variant (gpu/bvh_buffers.h's trace_backend_defines),
   // which the Renderer sets from its Device, so that no pass knows which
   // backend runs. Part of the cache key like any define.
   void set_global_defines(std::vector<ShaderDefine> defines) { global_defines_ = std::move(defines); }
