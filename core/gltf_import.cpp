@@ -566,16 +566,20 @@ class Importer {
       if (!finite_f32(strength) || strength < 0)
         fail(mp + "/extensions/KHR_materials_emissive_strength/emissiveStrength", "a finite number ≥ 0");
       out.emissive = emissive * static_cast<float>(strength);
-      // Specular: F0 (dielectric) = ((ior − 1)/(ior + 1))² × specularFactor;
-      // Filament's reflectance r gives F0 = 0.16 r².
+      // Reflectance as Bevy's glTF loader sets it: specularFactor × 0.5
+      // (v0.19.0:crates/bevy_gltf/src/loader/mod.rs:1483, the same at
+      // v0.18.0:crates/bevy_gltf/src/loader/mod.rs:1417), so F0 = 0.16 r² =
+      // 0.04 specularFactor². The loader reads KHR_materials_ior for
+      // transmission only (v0.19.0:crates/bevy_gltf/src/loader/mod.rs:1399,
+      // 1450), never for F0.
       const double spec = ext_number(gm.extensions, "KHR_materials_specular", "specularFactor", 1.0, mp);
       if (!std::isfinite(spec) || spec < 0 || spec > 1)
         fail(mp + "/extensions/KHR_materials_specular/specularFactor", "a number in [0, 1]");
       const double ior = ext_number(gm.extensions, "KHR_materials_ior", "ior", 1.5, mp);
       if (!std::isfinite(ior) || !(ior == 0.0 || ior >= 1.0))
         fail(mp + "/extensions/KHR_materials_ior/ior", "0 or a number ≥ 1");
-      const double f0 = (ior == 0.0 ? 1.0 : std::pow((ior - 1) / (ior + 1), 2.0)) * spec;
-      out.reflectance = static_cast<float>(std::min(1.0, std::sqrt(f0 / 0.16)));
+      if (ior != 1.5) warn(mp + ": KHR_materials_ior ior ignored (Bevy's loader takes F0 from specularFactor alone)");
+      out.reflectance = static_cast<float>(spec * 0.5);
       if (const tinygltf::Value* sc = ext_value(gm.extensions, "KHR_materials_specular", "specularColorFactor")) {
         bool white = sc->IsArray() && sc->ArrayLen() == 3;
         for (std::size_t i = 0; white && i < 3; ++i)

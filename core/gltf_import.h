@@ -10,8 +10,9 @@
 //    several primitives;
 //  - metallic-roughness factors: base_color (rgb of baseColorFactor),
 //    metallic, perceptual_roughness, emissive = emissiveFactor ×
-//    KHR_materials_emissive_strength; reflectance from KHR_materials_specular's
-//    specularFactor and KHR_materials_ior (F0 = 0.16 reflectance², default 0.5);
+//    KHR_materials_emissive_strength; reflectance = 0.5 × KHR_materials_specular's
+//    specularFactor, as Bevy's loader has it (F0 = 0.16 reflectance²; ior
+//    not used);
 //    a primitive without a material gets the glTF default material;
 //  - the first perspective camera reached (depth first, children in order):
 //    Scene::camera looks down the node's −Z with the node's +Y up;

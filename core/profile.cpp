@@ -106,12 +106,15 @@ Profile load_profile(const std::string& name_or_file, const std::filesystem::pat
   const json doc = read_json_input(file, "a readable profile file (profile \"" + name_or_file + "\")");
   if (!doc.is_object()) throw InputError(f, "", "an object with \"name\" and \"values\"");
   for (auto it = doc.begin(); it != doc.end(); ++it)
-    if (it.key() != "name" && it.key() != "description" && it.key() != "values")
-      throw InputError(f, "/" + json_pointer_token(it.key()), "one of the keys name, description, values");
+    if (it.key() != "name" && it.key() != "description" && it.key() != "bevy_ref" && it.key() != "values")
+      throw InputError(f, "/" + json_pointer_token(it.key()), "one of the keys name, description, bevy_ref, values");
+  if (doc.contains("bevy_ref") && !doc["bevy_ref"].is_string())
+    throw InputError(f, "/bevy_ref", "a Bevy tag or commit as a string");
   if (!doc.contains("name") || !doc["name"].is_string()) throw InputError(f, "/name", "the profile's name as a string");
   if (!doc.contains("values") || !doc["values"].is_object()) throw InputError(f, "/values", "an object of values");
   Profile p;
   p.name = doc["name"].get<std::string>();
+  p.bevy_ref = doc.value("bevy_ref", std::string());
   p.file = file;
   for (auto it = doc["values"].begin(); it != doc["values"].end(); ++it) {
     const std::string path = "/values/" + json_pointer_token(it.key());
@@ -119,12 +122,20 @@ Profile load_profile(const std::string& name_or_file, const std::filesystem::pat
     if (!e.is_object() || !e.contains("value") || !e.contains("source") || !e["source"].is_string())
       throw InputError(f, path, "an object {\"value\": …, \"source\": \"…\"}");
     for (auto k = e.begin(); k != e.end(); ++k)
-      if (k.key() != "value" && k.key() != "source" && k.key() != "allowed")
-        throw InputError(f, path + "/" + json_pointer_token(k.key()), "one of the keys value, source, allowed");
+      if (k.key() != "value" && k.key() != "source" && k.key() != "allowed" && k.key() != "cited")
+        throw InputError(f, path + "/" + json_pointer_token(k.key()), "one of the keys value, source, allowed, cited");
     ProfileValue pv;
     pv.value = e["value"];
     pv.source = e["source"].get<std::string>();
     if (!supported(pv.value)) throw InputError(f, path + "/value", "a boolean, number or string");
+    if (e.contains("cited")) {
+      if (!e["cited"].is_object()) throw InputError(f, path + "/cited", "an object {citation: fingerprint}");
+      for (auto c = e["cited"].begin(); c != e["cited"].end(); ++c) {
+        if (!c.value().is_string())
+          throw InputError(f, path + "/cited/" + json_pointer_token(c.key()), "a fingerprint as a string");
+        pv.cited[c.key()] = c.value().get<std::string>();
+      }
+    }
     if (e.contains("allowed")) {
       if (!pv.value.is_string() || !e["allowed"].is_array())
         throw InputError(f, path + "/allowed", "an array of strings, for a string value only");
@@ -138,6 +149,36 @@ Profile load_profile(const std::string& name_or_file, const std::filesystem::pat
     p.values[it.key()] = std::move(pv);
   }
   return p;
+}
+
+namespace {
+void append_profile_json(std::string& out, const nlohmann::ordered_json& v, int depth) {
+  const auto pad = [&](int d) { out.append(static_cast<std::size_t>(2 * d), ' '); };
+  if (v.is_object() && !v.empty()) {
+    out += "{\n";
+    std::size_t k = 0;
+    for (auto it = v.begin(); it != v.end(); ++it, ++k) {
+      pad(depth + 1);
+      out += nlohmann::ordered_json(it.key()).dump(-1, ' ', true) + ": ";
+      append_profile_json(out, it.value(), depth + 1);
+      out += k + 1 < v.size() ? ",\n" : "\n";
+    }
+    pad(depth);
+    out += "}";
+  } else if (v.is_array()) {
+    out += "[";
+    for (std::size_t k = 0; k < v.size(); ++k) out += (k ? ", " : "") + v[k].dump(-1, ' ', true);
+    out += "]";
+  } else {
+    out += v.dump(-1, ' ', true);
+  }
+}
+}  // namespace
+
+std::string profile_file_text(const nlohmann::ordered_json& doc) {
+  std::string out;
+  append_profile_json(out, doc, 0);
+  return out + "\n";
 }
 
 void apply_overrides(Profile& profile, const json& overrides, const std::string& file, const std::string& json_path,

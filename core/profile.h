@@ -4,8 +4,12 @@
 // line overrides again (`--profile`, `--set key=value`). Every resolved value,
 // with where it came from, goes into summary.json.
 //
-// File format: {"name", "description", "values": {"<key>": {"value": v,
-// "source": "…", "allowed": [strings, optional]}}}. Keys are dotted
+// File format: {"name", "description", "bevy_ref" (optional: the Bevy tag or
+// commit the profile models), "values": {"<key>": {"value": v, "source": "…",
+// "allowed": [strings, optional], "cited": {citation: fingerprint, optional}}}}.
+// "cited" holds, per Bevy citation in the source (core/bevy_citation.h), the
+// fingerprint of the lines it cites; `giharness fidelity` records and checks
+// them against a Bevy checkout. Keys are dotted
 // ("restir_di.mis"); a value's type (integer, number, boolean, string) is
 // fixed by the profile, and overrides must match it (an integer is accepted
 // where a number is expected).
@@ -27,10 +31,12 @@ struct ProfileValue {
   std::string source;                 // where the value comes from (Bevy version, post, our choice)
   std::vector<std::string> allowed;   // strings: the permitted values (empty: any)
   std::string set_by = "profile";     // "profile", "scenario overrides", "--set"
+  std::map<std::string, std::string> cited;  // "<ref>:<path>:<lines>" -> fingerprint of those lines
 };
 
 struct Profile {
   std::string name;
+  std::string bevy_ref;  // empty: the profile models no Bevy release (radiance cascades)
   std::filesystem::path file;
   std::map<std::string, ProfileValue> values;
 
@@ -53,6 +59,10 @@ std::filesystem::path profile_dir();
 // file. InputError (file + JSON path) for a missing file, bad JSON, or a
 // malformed entry.
 Profile load_profile(const std::string& name_or_file, const std::filesystem::path& dir = profile_dir());
+
+// A profile document as the profile files are written: keys in their order,
+// two-space indents, arrays of scalars on one line, non-ASCII escaped.
+std::string profile_file_text(const nlohmann::ordered_json& doc);
 
 // Applies {"key": value} overrides; InputError naming `file` and
 // `json_path`/<key> for an unknown key, a wrong type or a value not allowed.

@@ -176,6 +176,8 @@ gpu::GiSettings gi_settings_from_profile(const Profile& p, std::uint32_t chains)
   s.specular_mis_light_pdf_area = p.text("specular.mis_light_pdf") == "area";
   s.specular_mirror_exact = p.text("brdf.mirror") == "exact";
   s.specular_mesh_tangent_frame = p.text("brdf.sampling_frame") == "mikktspace";
+  s.specular_perfect_mirror_metal = p.text("specular.perfect_mirror") == "alpha_and_metallic";
+  s.specular_sun_nee_only = p.text("specular.directional_lights") == "nee_only";
   if (s.specular) s.specular_handover_alpha = static_cast<float>(p.number("specular.di_handover_alpha"));
   s.min_perceptual_roughness = static_cast<float>(p.number("brdf.min_perceptual_roughness"));
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";

@@ -191,6 +191,26 @@ TEST_F(GltfImport, MinimalTriangleAndDefaults) {
 
 // Textures are imported (tests/texture_test.cpp); occlusion is not: a path
 // tracer has no use for it, and its image is never decoded.
+// Bevy's loader: reflectance = 0.5 × specularFactor, ior unused for F0
+// (v0.19.0:crates/bevy_gltf/src/loader/mod.rs:1483). F0 = 0.04 s², not the
+// glTF spec's dielectric F0 × s.
+TEST_F(GltfImport, ReflectanceIsHalfTheSpecularFactorAsBevyLoadsIt) {
+  auto reflectance = [&](const json& extensions, const std::string& name) {
+    json d = TinyGltf{}.doc();
+    d["materials"] = json::array({{{"extensions", extensions}}});
+    d["meshes"][0]["primitives"][0]["material"] = 0;
+    const gi::Scene s = gi::import_gltf(write(d, name));
+    return std::make_pair(s.materials.at(0).reflectance, s.warnings);
+  };
+  EXPECT_NEAR(reflectance({{"KHR_materials_specular", {{"specularFactor", 0.5}}}}, "half.gltf").first, 0.25f, 1e-7f);
+  EXPECT_EQ(reflectance({{"KHR_materials_specular", {{"specularFactor", 0.0}}}}, "zero.gltf").first, 0.0f);
+  const auto [r, warnings] = reflectance({{"KHR_materials_ior", {{"ior", 1.0}}}}, "ior.gltf");
+  EXPECT_NEAR(r, 0.5f, 1e-7f);
+  bool warned = false;
+  for (const auto& w : warnings) warned = warned || w.find("ior ignored") != std::string::npos;
+  EXPECT_TRUE(warned) << ::testing::PrintToString(warnings);
+}
+
 TEST_F(GltfImport, OcclusionTexturesAreWarnings) {
   json d = TinyGltf{}.doc();
   d["materials"] = json::array({{{"occlusionTexture", {{"index", 0}}}}});

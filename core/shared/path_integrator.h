@@ -73,7 +73,8 @@ GI_FN bool sample_light(vec3 p, INOUT(uint) rng, OUT(vec3) dir, OUT(float) dist,
 // came from, spawn the offset origin): one light sample, shadowed, times the
 // BRDF and the cosine at ns, over its pdf, weighted against BRDF sampling by
 // `heuristic` (with MIS_LIGHT_PDF_AREA: the light's area-measure pdf in the
-// weight); light from below ng is excluded. Adds throughput times that to
+// weight; with MIS_DIRECTIONAL_UNWEIGHTED: a directional light's sample at weight 1);
+// light from below ng is excluded. Adds throughput times that to
 // `radiance` (inside the test, as one multiply-add: the shader compiler fuses
 // it there, and the GPU images keep their bits).
 GI_FN void add_next_event(BrdfParams brdf, vec3 p, vec3 ng, vec3 ns, vec3 v, vec3 spawn, vec3 throughput,
@@ -90,7 +91,8 @@ GI_FN void add_next_event(BrdfParams brdf, vec3 p, vec3 ng, vec3 ns, vec3 v, vec
         radiance += throughput * f * le / light_pdf;
       } else {
         float weighed = (heuristic & MIS_LIGHT_PDF_AREA) != 0u ? light_area_pdf : light_pdf;
-        float w = mis_weight(heuristic, weighed, brdf_pdf(brdf, ns, v, l));
+        bool unweighted = (heuristic & MIS_DIRECTIONAL_UNWEIGHTED) != 0u && dist >= RAY_TMAX;
+        float w = unweighted ? 1.0f : mis_weight(heuristic, weighed, brdf_pdf(brdf, ns, v, l));
         radiance += throughput * f * le * (w / light_pdf);
       }
     }

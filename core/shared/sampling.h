@@ -92,9 +92,15 @@ GI_CONST uint MIS_POWER = 2u;    // Solari 0.18's glossy path (specular.mis "pow
 // Both strategies weigh the same pair, so the weights still sum to one: the
 // mean stays, the noise grows with the light's distance.
 GI_CONST uint MIS_LIGHT_PDF_AREA = 0x100u;
+// Or-ed onto a heuristic: a directional light's NEE sample has weight 1, as
+// no BRDF-sampled ray is counted as reaching it (Solari's glossy path:
+// brdf_rays_can_hit false); the includer adds no escaped light then
+// (specular.directional_lights "nee_only").
+GI_CONST uint MIS_DIRECTIONAL_UNWEIGHTED = 0x200u;
+GI_CONST uint MIS_KIND = 0xFFu;  // the heuristic without the bits above
 
 GI_FN float mis_weight(uint heuristic, float a, float b) {
-  return (heuristic & ~MIS_LIGHT_PDF_AREA) == MIS_POWER ? power_heuristic(a, b) : balance_heuristic(a, b);
+  return (heuristic & MIS_KIND) == MIS_POWER ? power_heuristic(a, b) : balance_heuristic(a, b);
 }
 
 GI_SHADER_END

@@ -27,6 +27,17 @@
 //   HIT_RUSSIAN_ROULETTE  specular.russian_roulette: 1 ends a glossy path
 //                         after a bounce with probability 1 − luminance of
 //                         its throughput (Solari 0.19), 0 never
+//   HIT_PERFECT_MIRROR_METAL specular.perfect_mirror: 1 "alpha_and_metallic"
+//                         (Solari 0.18 and 0.19: a vertex skips NEE, and the
+//                         emitter its bounce hits gets weight 1, only at alpha
+//                         <= 0.001 and metallic > 0.9999: v0.18.0
+//                         realtime/specular_gi.wgsl:109), 0 "alpha" (alpha alone)
+//   HIT_SUN_NEE_ONLY      specular.directional_lights: 1 "nee_only" (Solari: a
+//                         directional light's NEE sample has weight 1, since
+//                         no BRDF ray can hit it, and a bounce that escapes
+//                         adds nothing: v0.18.0 realtime/specular_gi.wgsl:93,
+//                         159-161), 0 "mis" (NEE weighed against the bounce,
+//                         an escaped bounce adding the sun at the balance weight)
 //   HIT_ALBEDO_BASE       brdf.secondary_albedo: 1 "base_color" (Solari: the
 //                         full base colour, metals too: v0.18.0
 //                         realtime/restir_gi.wgsl:120, world_cache_update.wgsl:43,
@@ -62,9 +73,16 @@ float hit_cache_cell_size(vec3 position, uint rng);
 #ifndef HIT_MESH_TANGENT_FRAME
 #define HIT_MESH_TANGENT_FRAME 0
 #endif
+#ifndef HIT_PERFECT_MIRROR_METAL
+#define HIT_PERFECT_MIRROR_METAL 0
+#endif
+#ifndef HIT_SUN_NEE_ONLY
+#define HIT_SUN_NEE_ONLY 0
+#endif
 
 GI_FN uint hit_mis_heuristic() {
-  return (HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE) | (HIT_MIS_LIGHT_PDF_AREA != 0 ? MIS_LIGHT_PDF_AREA : 0u);
+  return (HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE) | (HIT_MIS_LIGHT_PDF_AREA != 0 ? MIS_LIGHT_PDF_AREA : 0u) |
+         (HIT_SUN_NEE_ONLY != 0 ? MIS_DIRECTIONAL_UNWEIGHTED : 0u);
 }
 
 // A path ends here: the hit's diffuse lobe times the irradiance arriving there
@@ -178,7 +196,7 @@ GI_FN vec3 glossy_path_radiance_from(bool trace_first, Hit hit, vec3 spawn, vec3
       GLOSSY_SEGMENT_TRACED();  // the includer's ray count (specular_gi.comp, GI_PATH_COUNTERS)
 #endif
       if (!trace_closest(spawn, dir, RAY_TMAX, hit)) {
-        if (vertex > 0u) radiance += throughput * escaped_radiance(dir, previous_pdf);
+        if (vertex > 0u && HIT_SUN_NEE_ONLY == 0) radiance += throughput * escaped_radiance(dir, previous_pdf);
         break;
       }
     }
@@ -215,7 +233,8 @@ GI_FN vec3 glossy_path_radiance_from(bool trace_first, Hit hit, vec3 spawn, vec3
       break;
     }
     spawn = offset_ray_origin(s.position, hng);
-    bool mirror = brdf.alpha <= SPECULAR_MIRROR_ALPHA;
+    bool delta_lobe = brdf.alpha <= SPECULAR_MIRROR_ALPHA;
+    bool mirror = delta_lobe && (HIT_PERFECT_MIRROR_METAL == 0 || s.base_color_metallic.w > 0.9999f);
     if (!mirror) add_next_event(brdf, s.position, hng, hns, v, spawn, throughput, hit_mis_heuristic(), radiance, rng);
     if (last) break;  // Solari: light beyond the last vertex is lost
     vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
@@ -236,7 +255,7 @@ GI_FN vec3 glossy_path_radiance_from(bool trace_first, Hit hit, vec3 spawn, vec3
     }
     previous_pdf = mirror ? 0.0f : pdf;
 #if HIT_RADIANCE == 2
-    spread_pdf = mirror ? 1e30f : pdf;
+    spread_pdf = delta_lobe ? 1e30f : pdf;
     if (path_end.path_roughness >= 0.0f) path_end.path_roughness += brdf.alpha;
 #endif
 #if HIT_RUSSIAN_ROULETTE != 0

@@ -48,6 +48,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"SPECULAR_RUSSIAN_ROULETTE", specular_russian_roulette ? "1" : "0"},
           {"SPECULAR_MIS_LIGHT_PDF_AREA", specular_mis_light_pdf_area ? "1" : "0"},
           {"SPECULAR_MESH_TANGENT_FRAME", specular_mesh_tangent_frame ? "1" : "0"},
+          {"SPECULAR_PERFECT_MIRROR_METAL", specular_perfect_mirror_metal ? "1" : "0"},
+          {"SPECULAR_SUN_NEE_ONLY", specular_sun_nee_only ? "1" : "0"},
           {"SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"SPECULAR_MAX_BOUNCES", std::to_string(specular_max_bounces) + "u"},
           {"SPECULAR_MIN_PERCEPTUAL_ROUGHNESS", f(min_perceptual_roughness)}};

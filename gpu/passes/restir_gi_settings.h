@@ -131,6 +131,14 @@ struct GiSettings {
   // area-measure pdf against the bounce's solid-angle one (every release;
   // #24671 put both in solid angle, "solid_angle").
   bool specular_mis_light_pdf_area = false;
+  // specular.perfect_mirror "alpha_and_metallic" (0.18, 0.19): a glossy
+  // path's vertex skips NEE only at alpha <= 0.001 and metallic > 0.9999;
+  // "alpha": at any metallic.
+  bool specular_perfect_mirror_metal = false;
+  // specular.directional_lights "nee_only" (0.18, 0.19): a directional
+  // light's NEE sample at weight 1, an escaped bounce adds nothing; "mis":
+  // NEE weighed against the bounce, which adds the sun when it escapes.
+  bool specular_sun_nee_only = false;
   // brdf.mirror "exact" (0.19, #22468): a mirror's sampled reflection weighs
   // the Fresnel term alone; "clamped_ggx" (0.18) the alpha-0.001 GGX lobe
   // over its pdf.

@@ -141,6 +141,8 @@ vec3 gi_target_colour(vec3 base_color) {
 #define HIT_RUSSIAN_ROULETTE SPECULAR_RUSSIAN_ROULETTE
 #define HIT_MIS_LIGHT_PDF_AREA SPECULAR_MIS_LIGHT_PDF_AREA
 #define HIT_MESH_TANGENT_FRAME SPECULAR_MESH_TANGENT_FRAME
+#define HIT_PERFECT_MIRROR_METAL SPECULAR_PERFECT_MIRROR_METAL
+#define HIT_SUN_NEE_ONLY SPECULAR_SUN_NEE_ONLY
 #include "gpu/shaders/hit_radiance.glsl"
 
 // A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,

@@ -180,6 +180,20 @@ void Commands::add_to(CLI::App& app) {
   schema_ = app.add_subcommand("schema", "print the scenario JSON Schema, each check's parameters from its own file");
   schema_->add_option("--out", schema_options_.out, "write it to this file instead (atomically)");
 
+  fidelity_ = app.add_subcommand(
+      "fidelity", "hold every Bevy citation of the profiles to the lines it cites in a Bevy git checkout; exit 1 on drift");
+  fidelity_->add_option("checkout", fidelity_options_.checkout, "a clone or bare mirror of Bevy's repository")
+      ->required();
+  fidelity_->add_option("--profile", fidelity_options_.profiles,
+                        "a profile name or file (repeatable; default: every profile)");
+  fidelity_->add_option("--ref", fidelity_options_.upstream_ref,
+                        "also list what changed since each profile's release up to this ref (e.g. main): the "
+                        "commits that touch a cited file, and the cited lines that moved, changed or went");
+  fidelity_->add_flag("--record", fidelity_options_.record,
+                      "write the fingerprint of every citation that has none, drop the stale ones (read the "
+                      "cited lines first: the fingerprint says they are what the source claims)");
+  fidelity_->add_option("--out", fidelity_options_.out, "write the report as JSON (atomically)");
+
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
 
   bench_ = add_bench_subcommand(app, bench_options_);  // replay/cli/bench.cpp
@@ -206,6 +220,7 @@ int Commands::execute() {
   if (nightly_scenario_->parsed()) return run_nightly_scenario(nightly_scenario_options_);
   if (devices_->parsed()) return list_devices_command();
   if (schema_->parsed()) return run_schema_command(schema_options_);
+  if (fidelity_->parsed()) return run_fidelity_command(fidelity_options_);
   if (baseline_update_->parsed()) return run_baseline_update(baseline_options_);
   if (merge_->parsed()) return run_merge(merge_options_);
   if (sweep_->parsed()) return run_sweep(sweep_options_);

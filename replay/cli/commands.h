@@ -145,6 +145,17 @@ int run_nightly(const NightlyOptions& options);
 int submit_slurm_nightly(const NightlyOptions& options);  // replay/cli/nightly_slurm.cpp
 int list_devices_command();
 
+// `giharness fidelity` (replay/cli/fidelity_command.cpp): the profiles' Bevy
+// citations against a Bevy git checkout.
+struct FidelityOptions {
+  std::filesystem::path checkout;     // a Bevy clone or bare mirror
+  std::vector<std::string> profiles;  // names or files; default: every profile of profile_dir()
+  std::string upstream_ref;           // --ref: what changed upstream since each profile's bevy_ref
+  bool record = false;                // write the fingerprints of unrecorded citations
+  std::filesystem::path out;          // the report as JSON
+};
+int run_fidelity_command(const FidelityOptions& options);
+
 class Commands {
  public:
   void add_to(CLI::App& app);
@@ -163,6 +174,8 @@ class Commands {
   CLI::App* bench_ = nullptr;
   CLI::App* replay_ = nullptr;
   CLI::App* schema_ = nullptr;
+  CLI::App* fidelity_ = nullptr;
+  FidelityOptions fidelity_options_;
   CLI::App* nightly_scenario_ = nullptr;
   NightlyScenarioOptions nightly_scenario_options_;
   SchemaOptions schema_options_;
