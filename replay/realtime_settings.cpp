@@ -94,6 +94,7 @@ gpu::WorldCacheSettings world_cache_settings_from_profile(const Profile& p) {
   s.delta_blend = static_cast<float>(p.number("world_cache.delta_blend"));
   s.di_samples = static_cast<std::uint32_t>(p.integer("world_cache.di_samples"));
   s.gi_ray_tmax = static_cast<float>(p.number("world_cache.gi_ray_tmax"));
+  s.gi_reach_cosine = p.text("world_cache.gi_ray_direction") == "unnormalised";
   s.light_exposure = static_cast<float>(p.number("light_tiles.exposure"));
   s.log2_radiance = p.text("light_tiles.radiance_encoding") == "log2";
   s.secondary_hits_full = p.text("brdf.secondary_hits") == "full";

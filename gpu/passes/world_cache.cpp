@@ -113,6 +113,8 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_PENDING_CAPACITY", u(pending_capacity)}};
   if (root_frame) d.push_back({"WORLD_CACHE_ROOT_FRAME", ""});
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
+  // Only where set: the variants that normalise keep their compiled shaders.
+  if (gi_reach_cosine) d.push_back({"WORLD_CACHE_GI_REACH_COSINE", "1"});
   return d;
 }
 

@@ -62,6 +62,9 @@ struct WorldCacheSettings {
   float delta_blend = 0.125f;
   std::uint32_t di_samples = 32;
   float gi_ray_tmax = 50.0f;
+  // world_cache.gi_ray_direction "unnormalised" (0.17, 0.18): the GI ray's
+  // reach is gi_ray_tmax times 2 cos of its angle to the cell's normal.
+  bool gi_reach_cosine = false;
   float light_exposure = 1.0f;
   bool log2_radiance = true;
   // brdf.secondary_hits "full": a cell's GI ray that hits a glossy surface

@@ -16,6 +16,9 @@
 #include "gpu/shaders/world_cache_common.glsl"
 #include "gpu/shaders/world_cache_query.glsl"
 
+#ifndef WORLD_CACHE_GI_REACH_COSINE
+#define WORLD_CACHE_GI_REACH_COSINE 0  // world_cache.gi_ray_direction "normalised"
+#endif
 #define HIT_RADIANCE 2
 #define HIT_SURFACES_FULL WORLD_CACHE_SECONDARY_HITS_FULL
 #define HIT_GLOSSY_ROUGHNESS WORLD_CACHE_GLOSSY_ROUGHNESS
@@ -38,7 +41,16 @@ void main() {
   vec3 dir = to_world(sample_cosine_hemisphere(rng_next_vec2(rng)), n);
   Hit hit;
   vec3 irradiance = vec3(0.0);
-  if (trace_closest(offset_ray_origin(p, n), dir, float(WORLD_CACHE_GI_TMAX), hit)) {
+#if WORLD_CACHE_GI_REACH_COSINE != 0
+  // Solari 0.17 and 0.18 trace bevy_pbr's cosine sample n + u unnormalised
+  // (v0.18.0:crates/bevy_pbr/src/render/utils.wgsl:98-106, traced at
+  // v0.18.0:realtime/world_cache_update.wgsl:38-39), and a ray query's t is
+  // parametric: the ray reaches tmax |n + u| = 2 cos(angle to n) tmax.
+  float gi_tmax = float(WORLD_CACHE_GI_TMAX) * 2.0 * dot(dir, n);
+#else
+  float gi_tmax = float(WORLD_CACHE_GI_TMAX);
+#endif
+  if (trace_closest(offset_ray_origin(p, n), dir, gi_tmax, hit)) {
     SurfacePoint s = surface_at_hit(hit);
     vec3 hit_position = s.position;
     vec3 hit_normal = dot(s.geometric_normal, dir) > 0.0 ? -s.geometric_normal : s.geometric_normal;
