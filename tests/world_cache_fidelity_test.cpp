@@ -342,6 +342,28 @@ TEST(WorldCacheFidelity, DirectLightWithoutTheCosineIsBrighter) {
             missing.summary.at("frames").at(5).at("world_cache").at("active_cells"));
 }
 
+// 0.17 and 0.18 trace the cache's GI ray along bevy_pbr's unnormalised
+// cosine sample n + u (world_cache.gi_ray_direction unnormalised): the ray
+// reaches 2 cos(angle) x tmax, 4/3 of tmax on average. With tmax cut to
+// 0.2 m in the 0.55 m box, the longer reach finds more of the walls' light;
+// at 1e5 m both reach every wall and the cache holds the same bits.
+TEST(WorldCacheFidelity, UnnormalisedGiRaysReachTwiceTheCosineTimesTmax) {
+  const std::string short_rays = "--set world_cache.gi_ray_tmax=0.2 ";
+  const auto unnormalised = run_cornell_gi(short_rays + "--set world_cache.gi_ray_direction=unnormalised", "reach_u", 6);
+  const auto normalised = run_cornell_gi(short_rays + "--set world_cache.gi_ray_direction=normalised", "reach_n", 6);
+  ASSERT_EQ(unnormalised.exit_code, 0) << unnormalised.output;
+  ASSERT_EQ(normalised.exit_code, 0) << normalised.output;
+  std::cout << "cache mean radiance at tmax 0.2 m: unnormalised " << cache_mean_radiance(unnormalised, 5)
+            << ", normalised " << cache_mean_radiance(normalised, 5) << "\n";
+  EXPECT_GT(cache_mean_radiance(unnormalised, 5), 1.02 * cache_mean_radiance(normalised, 5));
+  const std::string long_rays = "--set world_cache.gi_ray_tmax=100000 ";
+  const auto far_u = run_cornell_gi(long_rays + "--set world_cache.gi_ray_direction=unnormalised", "far_u", 6);
+  const auto far_n = run_cornell_gi(long_rays + "--set world_cache.gi_ray_direction=normalised", "far_n", 6);
+  ASSERT_EQ(far_u.exit_code, 0) << far_u.output;
+  ASSERT_EQ(far_n.exit_code, 0) << far_n.output;
+  EXPECT_EQ(cache_mean_radiance(far_u, 5), cache_mean_radiance(far_n, 5));
+}
+
 // Solari's cache takes its direct-light candidates from the light tiles
 // (world_cache.direct_light_candidates light_tiles); 0.17 updates the cache
 // before it rebuilds them, so the update reads last frame's
