@@ -49,31 +49,29 @@ struct CitationResult {
   std::string fingerprint;
 };
 
-// Where `wanted` (trimmed lines) stands in `file_text`, as one range; the
-// first occurrence at or after line 1.
-std::optional<LineRange> find_lines(const std::string& file_text, const std::vector<std::string>& wanted) {
-  if (wanted.empty()) return std::nullopt;
-  const int n = static_cast<int>(std::count(file_text.begin(), file_text.end(), '\n')) + 1;
-  const int len = static_cast<int>(wanted.size());
-  std::vector<std::string> window;
-  for (int first = 1; first + len - 1 <= n; ++first) {
-    if (!cited_lines(file_text, {{first, first + len - 1}}, window)) break;
-    if (window == wanted) return LineRange{first, first + len - 1};
-  }
-  return std::nullopt;
-}
-
-// The first run of `count` lines of `file_text` whose fingerprint is `fingerprint`.
-std::optional<LineRange> find_fingerprint(const std::string& file_text, const std::string& fingerprint,
-                                          std::size_t count) {
+// The first run of `count` lines of `file_text` (trimmed, as cited_lines
+// gives them) that `matches` accepts.
+template <class Match>
+std::optional<LineRange> find_run(const std::string& file_text, std::size_t count, Match matches) {
   const int n = static_cast<int>(std::count(file_text.begin(), file_text.end(), '\n')) + 1;
   const int len = static_cast<int>(count);
   std::vector<std::string> window;
   for (int first = 1; len > 0 && first + len - 1 <= n; ++first) {
     if (!cited_lines(file_text, {{first, first + len - 1}}, window)) break;
-    if (lines_fingerprint(window) == fingerprint) return LineRange{first, first + len - 1};
+    if (matches(window)) return LineRange{first, first + len - 1};
   }
   return std::nullopt;
+}
+
+// Where `wanted` stands in `file_text`, as one range.
+std::optional<LineRange> find_lines(const std::string& file_text, const std::vector<std::string>& wanted) {
+  return find_run(file_text, wanted.size(), [&](const std::vector<std::string>& w) { return w == wanted; });
+}
+
+// The first run of `count` lines of `file_text` whose fingerprint is `fingerprint`.
+std::optional<LineRange> find_fingerprint(const std::string& file_text, const std::string& fingerprint,
+                                          std::size_t count) {
+  return find_run(file_text, count, [&](const std::vector<std::string>& w) { return lines_fingerprint(w) == fingerprint; });
 }
 
 // Each range of `lines` looked up in `file_text` by its text alone: the

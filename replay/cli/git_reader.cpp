@@ -70,11 +70,14 @@ const std::optional<std::string>& GitReader::file_at(const std::string& ref, con
   return it->second;
 }
 
-std::optional<std::string> GitReader::resolve(const std::string& ref) {
-  auto [code, out] = git({"rev-parse", "--verify", "--quiet", ref + "^{commit}"});
-  if (code != 0) return std::nullopt;
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
+const std::optional<std::string>& GitReader::resolve(const std::string& ref) {
+  auto it = refs_.find(ref);
+  if (it == refs_.end()) {
+    auto [code, out] = git({"rev-parse", "--verify", "--quiet", ref + "^{commit}"});
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    it = refs_.emplace(ref, code == 0 ? std::optional<std::string>(std::move(out)) : std::nullopt).first;
+  }
+  return it->second;
 }
 
 std::vector<GitCommit> GitReader::commits_between(const std::string& from, const std::string& to,

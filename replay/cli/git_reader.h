@@ -26,8 +26,8 @@ class GitReader {
   // Cached: each (ref, path) is read once.
   const std::optional<std::string>& file_at(const std::string& ref, const std::string& path);
 
-  // The full hash `ref` names, or nullopt.
-  std::optional<std::string> resolve(const std::string& ref);
+  // The full hash `ref` names, or nullopt. Cached: each ref is asked once.
+  const std::optional<std::string>& resolve(const std::string& ref);
 
   // Commits reachable from `to` and not from `from` that touch any of
   // `paths`, newest first.
@@ -40,6 +40,7 @@ class GitReader {
 
   std::filesystem::path repository_;
   std::map<std::pair<std::string, std::string>, std::optional<std::string>> files_;
+  std::map<std::string, std::optional<std::string>> refs_;
 };
 
 }  // namespace gi
