@@ -1,5 +1,5 @@
 // Citations of Bevy's source in profile texts, and the fingerprint of the
-// lines they cite (replay/cli/fidelity_command.cpp holds each profile value's
+// lines they cite (app/fidelity_command.cpp holds each profile value's
 // citations against a Bevy git checkout).
 //
 // What a profile's `source` writes, and how it is read (tests/bevy_citation_test.cpp):

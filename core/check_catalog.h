@@ -1,7 +1,7 @@
 // The checks a scenario may name, and the parameter keys each accepts: what
 // the scenario parser needs to know of the checks, and no more. The checks
-// themselves live in replay/checks/, one file each; each declares itself
-// here at start-up through its registration (replay/checks/check_registry.h),
+// themselves live in checks/, one file each; each declares itself
+// here at start-up through its registration (checks/check_registry.h),
 // so core parses a scenario without knowing any check by name, and a new
 // check touches no parser, summary or report.
 #pragma once

@@ -1,4 +1,4 @@
-// Errors that map to the CLI's exit codes (DESIGN §11).
+// Errors that map to the CLI's exit codes (docs/design.md §11).
 #pragma once
 #include <stdexcept>
 #include <string>

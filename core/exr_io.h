@@ -1,7 +1,7 @@
 // Multi-layer OpenEXR I/O for images (captures, references, reports).
 // Layer "" is written as channels R, G, B; layer "di" as di.R, di.G, di.B.
 // Float32 (or half, for stored baselines), ZIP compression, written to a temporary name and renamed, so a
-// reader never sees a partial file (DESIGN §11).
+// reader never sees a partial file (docs/design.md §11).
 #pragma once
 #include <filesystem>
 #include <map>

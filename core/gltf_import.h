@@ -1,5 +1,5 @@
 // glTF 2.0 import (.gltf with embedded or external buffers, and .glb) into the
-// scene model (DESIGN §1, §3 "Materials and lights", §7).
+// scene model (docs/design.md §1, §3 "Materials and lights", §7).
 //
 // What is imported:
 //  - the default scene's node hierarchy (TRS or matrix, parent → child);

@@ -3,8 +3,11 @@
 // One function per schema file (accessor.schema.json → accessor(), ...), each
 // listing its properties in the schema's order with the schema's constraints.
 // The helpers below (Obj::integer, Obj::index, ...) are the rule classes:
-// JSON type, required, enum, range, array length, index reference.
+// JSON type, required, enum, range, array length, index reference. String-
+// typed properties are not theirs: one table (gltf_string_properties(), at
+// the end) and one walk of it (Validator::check_strings) check them all first.
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +15,7 @@
 #include <initializer_list>
 #include <limits>
 #include <optional>
+#include <regex>
 #include <set>
 #include <string>
 #include <vector>
@@ -99,13 +103,16 @@ std::string uri_decode(const std::string& s) {
   return out;
 }
 
-// "^[0-9]+\.[0-9]+$" (asset.version, asset.minVersion).
-bool is_version_string(const std::string& s) {
-  const auto dot = s.find('.');
-  auto digits = [](const std::string& d) {
-    return !d.empty() && d.find_first_not_of("0123456789") == std::string::npos;
-  };
-  return dot != std::string::npos && digits(s.substr(0, dot)) && digits(s.substr(dot + 1));
+// "one of "A", "B"" for an enum's values.
+std::string one_of(const std::vector<std::string>& values) {
+  std::string list;
+  for (const std::string& v : values) list += (list.empty() ? "" : ", ") + quoted(v);
+  return "one of " + list;
+}
+
+// What a string property must be, as an error message says it.
+std::string describe(const GltfStringProperty& p) {
+  return p.values.empty() ? "a string" : "a string, " + one_of(p.values);
 }
 
 class Validator;
@@ -152,16 +159,6 @@ class Obj {
     const Json* p = present(key, need, "a string");
     if (p && !p->is_string()) fail(at(key), "a string");
     return p;
-  }
-  const Json* string_enum(const char* key, Need need, std::initializer_list<const char*> values) const {
-    std::string list;
-    for (const char* s : values) list += (list.empty() ? "" : ", ") + quoted(s);
-    const Json* p = present(key, need, ("one of " + list).c_str());
-    if (!p) return p;
-    if (p->is_string())
-      for (const char* s : values)
-        if (p->get<std::string>() == s) return p;
-    fail(at(key), "one of " + list);
   }
   const Json* integer_enum(const char* key, Need need, std::initializer_list<std::int64_t> values) const {
     std::string list;
@@ -277,6 +274,14 @@ class Validator {
   void run() const;
 
  private:
+  // The string-typed properties (gltf_string_properties()), before the rest:
+  // the schema functions below read the strings they depend on (a camera's
+  // type, a buffer's uri) as checked strings.
+  void check_strings() const;
+  void walk_strings(const Json& here, const std::string& path, const std::vector<std::string>& segments,
+                    std::size_t k, const GltfStringProperty& p) const;
+  void check_string(const Json& value, const std::string& path, const GltfStringProperty& p) const;
+
   static const Json* find(const Json& o, const char* key) {
     auto it = o.find(key);
     return it == o.end() ? nullptr : &*it;
@@ -351,7 +356,6 @@ void Validator::gltf(const Obj& o) const {
       std::set<std::string> seen;
       for (std::size_t i = 0; i < names->size(); ++i) {
         const std::string ip = o.at(key) + "/" + std::to_string(i);
-        if (!(*names)[i].is_string()) fail(ip, "an extension name (a string)");
         if (!seen.insert((*names)[i].get<std::string>()).second) fail(ip, "an extension name not listed before");
       }
     }
@@ -382,16 +386,11 @@ void Validator::gltf(const Obj& o) const {
   o.objects("textures", Need::optional, some, [&](const Obj& x) { texture(x); });
 }
 
-// asset.schema.json; the major version must be 2 (the spec: a loader rejects
-// other major versions).
+// asset.schema.json (its strings and their version pattern: the table); the
+// major version must be 2 (the spec: a loader rejects other major versions).
 void Validator::asset(const Obj& o) {
-  o.string("copyright", Need::optional);
-  o.string("generator", Need::optional);
   const Json* version = o.string("version", Need::required);
-  if (!is_version_string(version->get<std::string>()) || version->get<std::string>().rfind("2.", 0) != 0)
-    o.fail(o.at("version"), "a glTF version \"2.<minor>\"");
-  if (const Json* min = o.string("minVersion", Need::optional); min && !is_version_string(min->get<std::string>()))
-    o.fail(o.at("minVersion"), "a version \"<major>.<minor>\"");
+  if (version->get<std::string>().rfind("2.", 0) != 0) o.fail(o.at("version"), "a glTF version \"2.<minor>\"");
 }
 
 // accessor.schema.json
@@ -401,7 +400,6 @@ void Validator::accessor(const Obj& o) const {
   o.integer_enum("componentType", Need::required, {5120, 5121, 5122, 5123, 5125, 5126});
   o.boolean("normalized");
   o.integer("count", Need::required, u32_from(1));
-  o.string_enum("type", Need::required, {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"});
   o.numbers("max", Need::optional, items_between(1, 16));
   o.numbers("min", Need::optional, items_between(1, 16));
   o.object("sparse", Need::optional, [&](const Obj& x) { accessor_sparse(x); });
@@ -427,7 +425,6 @@ void Validator::accessor_sparse(const Obj& o) const {
 void Validator::animation(const Obj& o) const {
   const Json* samplers = o.objects("samplers", Need::required, at_least_items(1), [](const Obj& s) {
     s.index("input", Need::required, "accessors");
-    s.string_enum("interpolation", Need::optional, {"LINEAR", "STEP", "CUBICSPLINE"});
     s.index("output", Need::required, "accessors");
   });
   o.objects("channels", Need::required, at_least_items(1), [&](const Obj& c) {
@@ -435,10 +432,7 @@ void Validator::animation(const Obj& o) const {
     const auto i = integer_of(*s);
     if (!i || *i < 0 || std::uint64_t(*i) >= samplers->size())
       fail(c.at("sampler"), "an index into " + o.at("samplers") + " (0.." + std::to_string(samplers->size() - 1) + ")");
-    c.object("target", Need::required, [](const Obj& t) {
-      t.index("node", Need::optional, "nodes");
-      t.string_enum("path", Need::required, {"translation", "rotation", "scale", "weights"});
-    });
+    c.object("target", Need::required, [](const Obj& t) { t.index("node", Need::optional, "nodes"); });
   });
 }
 
@@ -492,7 +486,7 @@ void Validator::camera(const Obj& o) {
     x.number("znear", Need::required, above(0));
     znear_below_zfar(x);
   });
-  const Json* type = o.string_enum("type", Need::required, {"perspective", "orthographic"});
+  const Json* type = o.string("type", Need::required);  // its enum: the table
   o.not_both("perspective", "orthographic");
   const std::string t = type->get<std::string>();
   if (!o.has(t.c_str())) o.fail(o.path(), "a " + quoted(t) + " object (\"type\" is " + quoted(t) + ")");
@@ -500,8 +494,6 @@ void Validator::camera(const Obj& o) {
 
 // image.schema.json: exactly one of uri and bufferView; bufferView needs mimeType.
 void Validator::image(const Obj& o) {
-  o.string("uri", Need::optional);
-  o.string_enum("mimeType", Need::optional, {"image/jpeg", "image/png"});
   o.index("bufferView", Need::optional, "bufferViews");
   o.not_both("uri", "bufferView");
   if (!o.has("uri") && !o.has("bufferView")) o.fail(o.path(), "a \"uri\" or a \"bufferView\"");
@@ -541,7 +533,6 @@ void Validator::material(const Obj& o) const {
   });
   o.object("emissiveTexture", Need::optional, info);
   o.numbers("emissiveFactor", Need::optional, exactly(3), unit());
-  o.string_enum("alphaMode", Need::optional, {"OPAQUE", "MASK", "BLEND"});
   o.number("alphaCutoff", Need::optional, at_least(0));
   o.boolean("doubleSided");
   o.extension("KHR_materials_emissive_strength",
@@ -633,17 +624,112 @@ void Validator::light(const Obj& o) {
     const double inner_angle = inner ? inner->get<double>() : 0.0, outer_angle = outer ? outer->get<double>() : kHalfPi / 2;
     if (inner_angle >= outer_angle) x.fail(x.path(), "innerConeAngle < outerConeAngle (defaults 0 and π/4)");
   });
-  const Json* type = o.string_enum("type", Need::required, {"directional", "point", "spot"});
+  const Json* type = o.string("type", Need::required);  // its enum: the table
   o.number("range", Need::optional, above(0));
   if (type->get<std::string>() == "spot" && !spot) o.fail(o.path(), "a \"spot\" object (\"type\" is \"spot\")");
 }
 
+void Validator::check_strings() const {
+  for (const GltfStringProperty& p : gltf_string_properties()) {
+    std::vector<std::string> segments;
+    for (std::size_t at = 1; at <= p.pointer.size();) {
+      const std::size_t end = std::min(p.pointer.find('/', at), p.pointer.size());
+      segments.push_back(p.pointer.substr(at, end - at));
+      at = end + 1;
+    }
+    walk_strings(doc_, "", segments, 0, p);
+  }
+}
+
+// Down the pointer's segments; a container of the wrong JSON type is left to
+// the schema functions, which report it where they meet it.
+void Validator::walk_strings(const Json& here, const std::string& path, const std::vector<std::string>& segments,
+                             std::size_t k, const GltfStringProperty& p) const {
+  const std::string& segment = segments[k];
+  const bool last = k + 1 == segments.size();
+  if (segment == "*") {
+    if (!here.is_array()) return;
+    for (std::size_t i = 0; i < here.size(); ++i) {
+      const std::string ip = path + "/" + std::to_string(i);
+      if (last)
+        check_string(here[i], ip, p);
+      else
+        walk_strings(here[i], ip, segments, k + 1, p);
+    }
+    return;
+  }
+  if (!here.is_object()) return;
+  const auto it = here.find(segment);
+  if (it == here.end()) {
+    if (last && p.required) fail(path, "a required " + quoted(segment) + " property (" + describe(p) + ")");
+    return;
+  }
+  if (last)
+    check_string(*it, path + "/" + segment, p);
+  else
+    walk_strings(*it, path + "/" + segment, segments, k + 1, p);
+}
+
+void Validator::check_string(const Json& value, const std::string& path, const GltfStringProperty& p) const {
+  if (!value.is_string()) fail(path, describe(p));
+  const std::string& text = value.get_ref<const std::string&>();
+  if (!p.values.empty() && std::find(p.values.begin(), p.values.end(), text) == p.values.end())
+    fail(path, one_of(p.values));
+  if (!p.pattern.empty() && !std::regex_match(text, std::regex(p.pattern, std::regex::ECMAScript)))
+    fail(path, "a string matching the pattern " + p.pattern);
+}
+
 void Validator::run() const {
   if (!doc_.is_object()) fail("", "a JSON object at the top level");
+  check_strings();
   gltf(Obj(*this, doc_, ""));
 }
 
 }  // namespace
+
+// Every property of type "string" in specification/2.0/schema/*.schema.json
+// (KhronosGroup/glTF at 77b44be7) and in the schemas of the extensions this
+// validator reads (KHR_lights_punctual's light.schema.json; the material and
+// texture-transform extensions have none), found by following each schema's
+// allOf to glTFProperty / glTFChildOfRootProperty: "type": "string", an array
+// whose items are, or an anyOf of string "const"s (the enums; their trailing
+// open {"type": "string"} is for future values, which this importer cannot
+// read, so the known values are required, as glTF-Validator reports others).
+// uri's "format": "iri-reference" is not checked beyond a string (a relative
+// buffer uri must name a file: buffer()).
+const std::vector<GltfStringProperty>& gltf_string_properties() {
+  static const std::vector<GltfStringProperty> table = [] {
+    const std::string version = "^(0|[1-9][0-9]{0,8})\\.(0|[1-9][0-9]{0,8})$";  // asset.schema.json
+    std::vector<GltfStringProperty> t = {
+        {"/extensionsUsed/*", false, {}, "", "glTF.schema.json"},
+        {"/extensionsRequired/*", false, {}, "", "glTF.schema.json"},
+        {"/asset/copyright", false, {}, "", "asset.schema.json"},
+        {"/asset/generator", false, {}, "", "asset.schema.json"},
+        {"/asset/version", true, {}, version, "asset.schema.json"},
+        {"/asset/minVersion", false, {}, version, "asset.schema.json"},
+        {"/accessors/*/type", true, {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"}, "", "accessor.schema.json"},
+        {"/animations/*/channels/*/target/path", true, {"translation", "rotation", "scale", "weights"}, "",
+         "animation.channel.target.schema.json"},
+        {"/animations/*/samplers/*/interpolation", false, {"LINEAR", "STEP", "CUBICSPLINE"}, "",
+         "animation.sampler.schema.json"},
+        {"/buffers/*/uri", false, {}, "", "buffer.schema.json"},
+        {"/cameras/*/type", true, {"perspective", "orthographic"}, "", "camera.schema.json"},
+        {"/images/*/uri", false, {}, "", "image.schema.json"},
+        {"/images/*/mimeType", false, {"image/jpeg", "image/png"}, "", "image.schema.json"},
+        {"/materials/*/alphaMode", false, {"OPAQUE", "MASK", "BLEND"}, "", "material.schema.json"},
+        {"/extensions/KHR_lights_punctual/lights/*/type", true, {"directional", "point", "spot"}, "",
+         "KHR_lights_punctual/schema/light.schema.json"},
+    };
+    // "name": every object that is a child of the root (the schemas whose allOf
+    // is glTFChildOfRootProperty.schema.json), KHR_lights_punctual's lights too.
+    for (const char* child : {"/accessors/*", "/animations/*", "/buffers/*", "/bufferViews/*", "/cameras/*",
+                              "/images/*", "/materials/*", "/meshes/*", "/nodes/*", "/samplers/*", "/scenes/*",
+                              "/skins/*", "/textures/*", "/extensions/KHR_lights_punctual/lights/*"})
+      t.push_back({std::string(child) + "/name", false, {}, "", "glTFChildOfRootProperty.schema.json"});
+    return t;
+  }();
+  return table;
+}
 
 void validate_gltf_document(const nlohmann::json& document, const std::string& file, bool glb) {
   Validator(document, file, glb).run();

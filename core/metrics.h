@@ -1,4 +1,4 @@
-// Image error metrics (DESIGN §5) and the noise-aware comparison the
+// Image error metrics (docs/design.md §5) and the noise-aware comparison the
 // `reference` check uses. Every metric averages over pixels where both images
 // are finite; non-finite values are counted separately, never folded in.
 #pragma once

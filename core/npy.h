@@ -1,5 +1,5 @@
 // NumPy .npy files (format version 1.0, read also 2.0), so that a capture's
-// buffers open with `numpy.load` (DESIGN §9). Little-endian, C order only;
+// buffers open with `numpy.load` (docs/design.md §9). Little-endian, C order only;
 // the element type is a numpy dtype string ("<f4", "<u4", "<i4", "<u8",
 // "<f8", "|u1"). Debian's libxtensor-dev has an .npy reader/writer, but only
 // for xtensor arrays, a header-only dependency for some hundred lines here;

@@ -1,4 +1,4 @@
-// Profiles (DESIGN §3 "Profiles"): every constant and behavioural switch of
+// Profiles (docs/design.md §3 "Profiles"): every constant and behavioural switch of
 // the pipeline, each with its source, in scenarios/profiles/<name>.json. A
 // scenario names one and overrides single values ("overrides"); the command
 // line overrides again (`--profile`, `--set key=value`). Every resolved value,
@@ -9,10 +9,11 @@
 // "allowed": [strings, optional], "cited": {citation: fingerprint, optional}}}}.
 // "cited" holds, per Bevy citation in the source (core/bevy_citation.h), the
 // fingerprint of the lines it cites; `giharness fidelity` records and checks
-// them against a Bevy checkout. Keys are dotted
-// ("restir_di.mis"); a value's type (integer, number, boolean, string) is
-// fixed by the profile, and overrides must match it (an integer is accepted
-// where a number is expected).
+// them against a Bevy checkout. Keys are dotted (restir_di.mis); a value's
+// type (integer, number, boolean, string) is fixed by the profile, and
+// overrides must match it (an integer is accepted where a number is
+// expected). The code reads no key here: gpu/profile_keys.cpp, the profile
+// table, names each key once and turns a profile into settings.
 #pragma once
 #include <filesystem>
 #include <map>
@@ -40,8 +41,9 @@ struct Profile {
   std::filesystem::path file;
   std::map<std::string, ProfileValue> values;
 
-  // Typed reads; std::logic_error for a key the profile lacks or a wrong type
-  // (a programming error: profiles are validated on load).
+  // Typed reads, for tests and tools that look at one value (the run's code
+  // reads every key through the profile table, gpu/profile_keys.h);
+  // std::logic_error for a key the profile lacks or a wrong type.
   long long integer(const std::string& key) const;
   double number(const std::string& key) const;
   bool flag(const std::string& key) const;

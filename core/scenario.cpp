@@ -453,9 +453,15 @@ Scenario parse_scenario(const json& doc, const std::filesystem::path& file) {
   if (doc.contains("capture")) {
     const json& cap = r.array(doc["capture"], "/capture");
     for (std::size_t i = 0; i < cap.size(); ++i) {
-      std::uint32_t f = r.uint(cap[i], Reader::at("/capture", i), 0, kMaxFrames - 1);
+      const std::string path = Reader::at("/capture", i);
+      std::uint32_t f = r.uint(cap[i], path, 0, kMaxFrames - 1);
+      // The scenario's own frames bound its captures: a frame the run never
+      // reaches is the file's mistake (a --frames run shortened below it is
+      // the command line's, replay/run_setup.cpp).
+      if (f >= s.frames)
+        r.fail(path, fmt::format("expected a frame below \"frames\" ({}), got {}", s.frames, f));
       if (std::find(s.capture.begin(), s.capture.end(), f) != s.capture.end())
-        r.fail(Reader::at("/capture", i), fmt::format("expected distinct frames, {} repeats", f));
+        r.fail(path, fmt::format("expected distinct frames, {} repeats", f));
       s.capture.push_back(f);
     }
   }

@@ -1,4 +1,4 @@
-// Scenario files (DESIGN §7): parsing and validation of the JSON format that
+// Scenario files (docs/design.md §7): parsing and validation of the JSON format that
 // scenarios/schema.json describes. Every error is a gi::InputError naming the
 // file, the JSON Pointer of the offending value and what was expected (exit
 // code 2). The parser is the authority; tests/scenario_test.cpp keeps the
@@ -24,7 +24,7 @@ namespace gi {
 enum class RenderMode { Reference, Realtime };
 
 // Which pipeline a scenario drives: Solari's (3D scenes, the default) or the
-// seed lesson's 2D radiance cascades (issue 18: a canvas of shapes, its own
+// seed lesson's 2D radiance cascades (a canvas of shapes, its own
 // passes, profile, CPU reference and rc_* checks).
 enum class Pipeline { Solari, RadianceCascades };
 
@@ -181,7 +181,7 @@ Scenario load_scenario(const std::filesystem::path& file);
 Scenario parse_scenario(const nlohmann::json& doc, const std::filesystem::path& file);
 
 // How far a ranged event has come at `frame`: 1 for a "frame" event and
-// once f >= last, else (f − first) / (last − first) (replay/events.h).
+// once f >= last, else (f − first) / (last − first) (core/scene_events.h).
 float event_progress(const Event& e, std::uint32_t frame);
 
 // The order events are applied in: by start frame (Event::first), then by

@@ -1,4 +1,4 @@
-// Builds a scenario's initial scene (DESIGN §7): a built-in generator or a
+// Builds a scenario's initial scene (docs/design.md §7): a built-in generator or a
 // glTF file, then the scenario's camera, then validate_events().
 #pragma once
 #include "core/scenario.h"

@@ -59,7 +59,7 @@ struct FlatInstances {
 
 // Triangles of every mesh are reordered along a Morton curve of their
 // centroids: lavapipe builds its BLAS by splitting the index list in order,
-// and unsorted triangles made rays 500-1000x slower (DESIGN §4). Both
+// and unsorted triangles made rays 500-1000x slower (docs/design.md §4). Both
 // renderers see the same order, so primitive ids agree.
 FlatGeometry flatten_geometry(const Scene& scene);
 

@@ -1,4 +1,4 @@
-// MikkTSpace tangents (issue 19): what glTF 2.0 asks for when a mesh with a
+// MikkTSpace tangents: what glTF 2.0 asks for when a mesh with a
 // normal map has no TANGENT attribute. Our own implementation of Morten
 // Mikkelsen's algorithm (mikktspace.c, as Blender and the glTF tools run it,
 // with its default 180° angular threshold), checked corner by corner against

@@ -1,4 +1,4 @@
-// The `rayquery` backend's acceleration structures (DESIGN §4): one BLAS per
+// The `rayquery` backend's acceleration structures (docs/design.md §4): one BLAS per
 // mesh, built once from the global vertex/index buffers (triangles arrive
 // Morton-sorted from core, which lavapipe's BLAS builder needs; a mesh added
 // later by a spawn gets its own, the others are kept), and one TLAS

@@ -1,4 +1,4 @@
-// The `bvh` tracing backend on the GPU (DESIGN §4): the CPU-built two-level
+// The `bvh` tracing backend on the GPU (docs/design.md §4): the CPU-built two-level
 // BVH (core/bvh/scene_bvh.h) in two storage buffers that
 // gpu/shaders/trace_bvh.glsl traverses. The BLASes are uploaded once (and
 // again when meshes are added); a TLAS rebuild rewrites only the TLAS region

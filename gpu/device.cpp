@@ -339,7 +339,7 @@ Device::Device(std::optional<int> index, BackendRequest request, DeviceRole role
     info_.device_type = device_type_name(props.properties.deviceType);
     info_.buffer_memory = staged_buffers_ ? "staged" : "mapped";
 
-    // Features: bufferDeviceAddress -> accelerationStructure -> rayQuery (DESIGN §4).
+    // Features: bufferDeviceAddress -> accelerationStructure -> rayQuery (docs/design.md §4).
     VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
     VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};

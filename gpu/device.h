@@ -1,5 +1,5 @@
 // The Vulkan device: instance, physical-device choice (lavapipe by default,
-// DESIGN §4), one compute queue (with the ray-query extensions only for the
+// docs/design.md §4), one compute queue (with the ray-query extensions only for the
 // `rayquery` tracing backend), one command pool and a submit-and-wait helper.
 // Everything else in gpu/ borrows it.
 #pragma once
@@ -26,11 +26,11 @@ enum class DeviceRole { main, shader_prewarm };
 void check_vk(VkResult result, const char* what);
 const char* vk_result_name(VkResult result);
 
-// How rays are traced (DESIGN §4): hardware/driver ray queries over
+// How rays are traced (docs/design.md §4): hardware/driver ray queries over
 // VK_KHR_acceleration_structure, or the compute-shader BVH (gpu/bvh_buffers.h,
 // gpu/shaders/trace_bvh.glsl), which needs nothing beyond Vulkan 1.2 compute.
 enum class TraceBackend { rayquery, bvh };
-// --backend: `automatic` picks bvh on lavapipe (2.5-3x faster there, DESIGN §4)
+// --backend: `automatic` picks bvh on lavapipe (2.5-3x faster there, docs/design.md §4)
 // and on devices without ray query, rayquery elsewhere.
 enum class BackendRequest { automatic, rayquery, bvh };
 const char* backend_name(TraceBackend backend);

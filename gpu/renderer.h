@@ -137,7 +137,7 @@ class Renderer {
   // Raw: x the packed `cluster_id << triangle_bits | triangle`, y the
   // independent instance channel (core/clusters/cluster_ids.h).
   std::vector<glm::uvec2> packed_visibility() const;
-  // The ID space (DESIGN §8): each mesh's clusters and the bit split. Takes
+  // The ID space (docs/design.md §8): each mesh's clusters and the bit split. Takes
   // effect at the next update_scene. Without it, each mesh's LOD-0 meshlets
   // (25/7 bits) own the IDs.
   void set_cluster_ids(std::vector<MeshClusterIds> meshes, const ClusterIdLayout& layout);

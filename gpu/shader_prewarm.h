@@ -24,7 +24,7 @@
 //
 // The setting: GIHARNESS_SHADER_PREWARM_THREADS, the number of workers
 // (0: off); without it, one per CPU core. `nightly --jobs N` gives each
-// scenario its share of the cores, or none below two (replay/cli/nightly.cpp).
+// scenario its share of the cores, or none below two (app/nightly.cpp).
 #pragma once
 #include <condition_variable>
 #include <cstdint>

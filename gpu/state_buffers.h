@@ -1,7 +1,7 @@
 // The pipeline's persistent GPU state, named: every buffer whose contents
 // carry from one frame to the next (reservoirs, last frame's surfaces, world
 // cache cells, accumulation sums). Captures write them, replay restores them,
-// and the determinism check hashes them (DESIGN §6, §9). A pass driver that
+// and the determinism check hashes them (docs/design.md §6, §9). A pass driver that
 // owns such a buffer lists it through `list_state`; the Renderer gathers them.
 #pragma once
 #include <cstdint>

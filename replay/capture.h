@@ -1,4 +1,4 @@
-// Frame captures (DESIGN §9): a folder per captured frame,
+// Frame captures (docs/design.md §9): a folder per captured frame,
 //
 //   <out>/captures/frame_00060/
 //     manifest.json      the run (scenario document, frame, frames, seed, profile, --set values,
@@ -12,7 +12,7 @@
 //                        what `replay --verify` compares against
 //
 // The scene is not stored: events are a pure function of (initial scene,
-// scenario, frame) (replay/events.h), so a replay re-derives the scene at the
+// scenario, frame) (core/scene_events.h), so a replay re-derives the scene at the
 // captured frame from the scenario document in the manifest, and checks it
 // against the manifest's scene hash. Random numbers derive from (seed, frame,
 // pixel) only: there is no RNG state beyond the frame index.

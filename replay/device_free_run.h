@@ -8,7 +8,7 @@
 
 #include "core/scenario.h"
 #include "core/scene.h"
-#include "replay/checks/check_result.h"
+#include "checks/check_result.h"
 #include "replay/run_scenario.h"
 
 namespace gi {

@@ -1,4 +1,4 @@
-// Speed against error as the ReSTIR papers measure it (issue 17): the
+// Speed against error as the ReSTIR papers measure it: the
 // realtime output beside unbiased path tracers given the same time per frame,
 // and the time each needs to reach the realtime output's error.
 //

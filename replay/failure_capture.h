@@ -1,6 +1,6 @@
 // Nightly: a failing check always leaves a capture of its first failing
 // frame. The failure is known only when the check is judged (often at the
-// end), so the scenario is run again, bit-identically (DESIGN §6), with those
+// end), so the scenario is run again, bit-identically (docs/design.md §6), with those
 // frames captured; the capture folders are moved into the run's captures/.
 #pragma once
 #include <vector>
@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/scenario.h"
-#include "replay/checks/check_result.h"
+#include "checks/check_result.h"
 #include "replay/run_scenario.h"
 
 namespace gi {

@@ -11,7 +11,7 @@
 #include "core/phase_clock.h"
 #include "core/metrics.h"
 #include "replay/capture.h"
-#include "replay/events.h"
+#include "core/scene_events.h"
 #include "replay/resource_limits.h"
 #include "replay/signal_figures.h"
 #include "replay/test_faults.h"
@@ -55,7 +55,7 @@ void FrameLoop::build_renderer() {
 // scene_ stays the truth the checks and references see.
 void FrameLoop::upload_scene() {
   std::vector<std::size_t> kept;
-  if (setup_.profile.text("scene.raytracing_mesh_removal") == "ignored")
+  if (setup_.settings.raytracing_mesh_removal_ignored)
     for (std::size_t i = 0; i < scene_.instances.size(); ++i)
       if (scene_.instances[i].raytracing_mesh_removed && !scene_.instances[i].visible) kept.push_back(i);
   for (std::size_t i : kept) scene_.instances[i].visible = true;

@@ -19,11 +19,12 @@
 #include "core/shared/word_hash.h"
 #include "gpu/device.h"
 #include "gpu/passes/buffer_hash.h"
+#include "gpu/profile_keys.h"
 #include "gpu/rc/rc_pipeline.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/timer.h"
 #include "replay/capture.h"
-#include "replay/checks/check_registry.h"
+#include "checks/check_registry.h"
 #include "replay/frame_log.h"
 #include "replay/run_summary.h"
 #include "replay/wall_breakdown.h"
@@ -111,7 +112,7 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   const std::map<std::string, double> phases_at_start = phase_seconds();
   Profile profile = resolve_profile(scenario, options.profile, options.sets);
-  if (!profile.values.count("rc.distance_field"))
+  if (!profile_has_family(profile, ProfileFamily::radiance_cascades))
     throw InputError("--profile", "", "the radiance-cascades profile (radiance-cascades-lesson or a file with its keys)");
   const Canvas& initial = *scenario.canvas;
   const RcSettings settings = rc_settings(profile, initial.width, initial.height);
@@ -141,7 +142,7 @@ RunResult run_rc_scenario(const Scenario& scenario, const RunOptions& options) {
   const VkDeviceSize pixels = VkDeviceSize(settings.width) * settings.height;
   ReferenceCache references({.rays = 1024, .seed = seed});
 
-  // A replay (replay/cli/replay_command.cpp) starts at the captured frame
+  // A replay (app/replay_command.cpp) starts at the captured frame
   // itself: nothing carries between frames, so rendering it again is the
   // proof that the bits are the same (its hash against the manifest's).
   std::uint32_t first_frame = 0;

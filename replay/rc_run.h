@@ -1,4 +1,4 @@
-// A scenario of "pipeline": "radiance_cascades" (issue 18) end to end: the
+// A scenario of "pipeline": "radiance_cascades" end to end: the
 // canvas at each frame under the events, the RC passes on the device, the
 // frame record (image hash, per-pass ms), the rc_* checks on the frames they
 // judge (each given the output and, computed once per canvas and shared, the

@@ -1,7 +1,7 @@
 // run_scenario in three parts: the setup (replay/run_setup.h: profile, scene,
 // checks, renderer options; no device), the frames (replay/frame_loop.h) and
 // the summary (replay/run_summary.h). The checks are found by name in their
-// registry (replay/checks/check_registry.h); nothing here names one.
+// registry (checks/check_registry.h); nothing here names one.
 #include "replay/run_scenario.h"
 
 #include <algorithm>
@@ -11,6 +11,8 @@
 
 #include "core/phase_clock.h"
 #include "gpu/device.h"
+#include "replay/check_reruns.h"
+#include "replay/device_free_run.h"
 #include "replay/failure_capture.h"
 #include "replay/frame_loop.h"
 #include "replay/rc_run.h"
@@ -22,7 +24,7 @@
 namespace gi {
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
-  // The seed lesson's 2D radiance cascades: a pipeline of its own (issue 18).
+  // The seed lesson's 2D radiance cascades: a pipeline of its own.
   if (scenario.pipeline == Pipeline::RadianceCascades) return run_rc_scenario(scenario, options);
   const auto started = std::chrono::steady_clock::now();
   const std::map<std::string, double> phases_at_start = phase_seconds();
@@ -31,9 +33,11 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     const PhaseScope timed(phase::kScene);
     return RunSetup(scenario, options);
   }();
-  // A check that decides without drawing (cluster_ids "count_only") runs the scenario alone.
+  // A check that decides without drawing (cluster_ids "count_only", a lone
+  // furnace check): no device, its result is the run's.
   for (auto& check : setup.checks)
-    if (check->runs_alone()) return check->run_alone();
+    if (const std::optional<std::string> mode = check->decides_alone())
+      return finish_device_free_run(scenario, setup.initial, setup.frames, options, check->result(), *mode, started);
 
   check_resource_limits(scenario, setup.initial, 0);
   gpu::Device device(options.device, gpu::parse_backend_request(options.backend));
@@ -41,6 +45,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   FrameLoop loop(scenario, options, setup, device);
   loop.run();
 
+  run_check_reruns(scenario, options, setup.checks);
   RunResult result;
   for (auto& check : setup.checks) result.checks.push_back(check->result());
   const bool all_pass =

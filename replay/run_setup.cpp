@@ -8,8 +8,8 @@
 #include "core/errors.h"
 #include "core/scene_builder.h"
 #include "core/scene_flatten.h"
-#include "replay/checks/check_registry.h"
-#include "replay/realtime_settings.h"
+#include "checks/check_registry.h"
+#include "gpu/realtime_settings.h"
 
 namespace gi {
 namespace {
@@ -42,6 +42,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
       height(scenario.resolution[1]),
       realtime(scenario.mode == RenderMode::Realtime),
       profile(resolve_profile(scenario, options.profile, options.sets)),
+      settings(realtime_settings(profile)),
       initial(build_scene(scenario)),
       geometry(flatten_geometry(initial)) {
   if (frames == 0) throw InputError("--frames", "", "expected a frame count of at least 1");
@@ -50,14 +51,15 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   if (scenario.cache_view && !realtime)
     throw InputError(scenario.file.string(), "/cache_view", "\"cache_view\": true in \"mode\": \"realtime\" only");
   for (const std::string& w : initial.warnings) spdlog::warn("{}: {}", scenario.name, w);
-  apply_material_model(initial, profile);  // materials only: the geometry above stays
+  apply_material_model(initial, settings);  // materials only: the geometry above stays
   gi = realtime && scenario.gi;
   // Without the debug view only GI's queries put cells in the cache.
-  cache_fed = scenario.cache_view || (gi && gi_settings_from_profile(profile, 1).queries_world_cache());
+  cache_fed = scenario.cache_view || (gi && settings.gi.queries_world_cache());
   plan_captures(scenario, options, *this);
 
   for (const CheckSpec& spec : scenario.checks) {
-    const CheckContext context{scenario, spec, profile, options, initial, frames, seed, realtime, gi, cache_fed};
+    const CheckContext context{scenario, spec,     profile, options,   initial, frames,
+                               seed,     realtime, gi,      cache_fed, &settings};
     checks.push_back(make_check(context));
     needs.push_back(checks.back()->needs());
   }
@@ -90,24 +92,23 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
   chains = realtime ? wanted_chains : 1u;
   const std::uint32_t chains_per_pipeline = 1u;
   if (realtime) {
-    r.di = di_settings_from_profile(profile, flatten_instances(initial, geometry), chains_per_pipeline,
-                                    gi && profile.flag("specular.enabled"));
-    r.di->background = initial.background;
-    r.normal_map_decode = normal_map_decode_from_profile(profile);
-    r.motion_vectors = profile.text("temporal.motion_vectors") == "ignored" ? gpu::MotionVectors::ignored
-                                                                             : gpu::MotionVectors::previous_view;
+    // Specular GI beside DI takes the smoothest surfaces' specular lobe from it.
+    fit_to_run(settings, flatten_instances(initial, geometry), gi && settings.gi.specular, chains_per_pipeline);
+    settings.di.background = initial.background;
+    r.di = settings.di;
+    r.normal_map_decode = settings.normal_map_decode;
+    r.motion_vectors = settings.motion_vectors;
   }
   if (gi) {
-    r.gi = gi_settings_from_profile(profile, chains_per_pipeline);
-    r.gi->temporal_edge_stats = temporal_edges;  // compiled in only for a check that reads it
-    r.gi->path_counters = path_counters;
+    settings.gi.temporal_edge_stats = temporal_edges;  // compiled in only for a check that reads it
+    settings.gi.path_counters = path_counters;
+    r.gi = settings.gi;
   }
   if (cache_fed) {
-    gpu::WorldCacheSettings cache = world_cache_settings_from_profile(profile);
-    cache.view = scenario.cache_view;
-    cache.stats = true;
-    cache.root_frame = root_frame;  // instrumentation compiled in only for a check that reads it
-    r.world_cache = cache;
+    settings.cache.view = scenario.cache_view;
+    settings.cache.stats = true;
+    settings.cache.root_frame = root_frame;  // instrumentation compiled in only for a check that reads it
+    r.world_cache = settings.cache;
   }
 }
 

@@ -15,8 +15,9 @@
 #include "core/scenario.h"
 #include "core/scene.h"
 #include "core/scene_flatten.h"
+#include "gpu/realtime_settings.h"
 #include "gpu/renderer.h"
-#include "replay/checks/check.h"
+#include "checks/check.h"
 #include "replay/run_scenario.h"
 
 namespace gi {
@@ -32,6 +33,11 @@ struct RunSetup {
   bool gi = false;         // ReSTIR GI and specular GI run
   bool cache_fed = false;  // the world cache runs
   Profile profile;
+  // Every profile key, resolved once through the profile table
+  // (gpu/profile_keys.cpp) and fitted to this run (the scene's light tiles,
+  // the handover to specular GI, one chain per pipeline): renderer_options
+  // and the checks (CheckContext::settings) take their parts from here.
+  RealtimeSettings settings;
   Scene initial;
   FlatGeometry geometry;  // the initial scene's, flattened once (the frame loop takes it)
   std::set<std::uint32_t> captures;  // the scenario's, --capture's and the checks'

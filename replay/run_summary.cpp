@@ -12,7 +12,7 @@
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 #include "replay/equal_time.h"
-#include "replay/events.h"
+#include "core/scene_events.h"
 #include "core/reference/reference_cache.h"
 #include "core/cache_root.h"
 #include "core/phase_clock.h"
@@ -22,7 +22,7 @@
 namespace gi {
 
 // Beside the passes: each frame's GPU pass sum (all passes; the pipeline's
-// alone) and its host wall time, and the ratio of their medians (issue 16's
+// alone) and its host wall time, and the ratio of their medians (the observation target
 // "wall ≤ 1.25× the GPU pass sum").
 void add_frames(FrameLog& log, const std::vector<double>& frame_wall_ms, nlohmann::json& s) {
   const nlohmann::json kept = log.kept();

@@ -5,7 +5,7 @@
 #include <map>
 
 #include "core/metrics.h"
-#include "replay/checks/reference_check.h"
+#include "checks/reference_check.h"
 #include "reports/json_figures.h"
 #include "reports/summary.h"
 

@@ -1,4 +1,4 @@
-// Per-signal figures of a realtime run (issue 17): DI, GI and specular each
+// Per-signal figures of a realtime run: DI, GI and specular each
 // with its per-frame noise (the two chains' difference, summary "noise"),
 // its bias against the Embree reference of the same quantity where one
 // exists, and its share of the pipeline's ms/frame.

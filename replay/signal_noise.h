@@ -1,5 +1,5 @@
 // Per-frame noise of the realtime signals (DI, GI, specular, output), two
-// ways, for summary.json's "noise" (issue 25):
+// ways, for summary.json's "noise":
 //
 // - chain: from two independent chains A and B of the last frame,
 //   mean((A − B)² / 2 / (m² + 0.01)). Cheap, but A and B share the world

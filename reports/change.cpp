@@ -118,7 +118,7 @@ nlohmann::json detect_change(const ChangeInputs& in) {
   if (!base.contains("hashes"))
     return {{"status", "no_exact_baseline"},
             {"reason", "the baseline keeps no hashes (written before change detection; run `baseline update`)"}};
-  // Before the GPU computed them (issue 16), hashes were XXH3-64 of the same bytes.
+  // Before the GPU computed them, hashes were XXH3-64 of the same bytes.
   const std::string base_scheme = base["hashes"].value("scheme", shader::XXH3_HASH_SCHEME);
   const std::string run_scheme = s["hashes"].value("scheme", shader::XXH3_HASH_SCHEME);
   if (base_scheme != run_scheme)

@@ -1,4 +1,4 @@
-// The figures a nightly compares against its baseline (DESIGN §10): every
+// The figures a nightly compares against its baseline (docs/design.md §10): every
 // number of a scenario's summary.json that says how fast or how accurate the
 // run was, flattened to "path/like/this" names, and the check verdicts.
 #pragma once

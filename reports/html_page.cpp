@@ -1,11 +1,17 @@
 #include "reports/html_page.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <fmt/format.h>
+// libstb-dev's libstb (linked by gi_core): decode, resize, encode.
+#include <stb/stb_image.h>
+#include <stb/stb_image_resize.h>
+#include <stb/stb_image_write.h>
 
 #include "reports/junit.h"
 
@@ -54,12 +60,94 @@ std::string html_plot(const PlotResult& plot, const std::string& alt) {
                      base64(plot.svg));
 }
 
+Thumbnail make_thumbnail(const std::filesystem::path& file, int max_width) {
+  Thumbnail t;
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load(file.c_str(), &w, &h, &channels, 3);
+  if (!pixels) return t;
+  std::vector<unsigned char> rgb(pixels, pixels + std::size_t(w) * h * 3);
+  stbi_image_free(pixels);
+  if (w > max_width) {
+    const int tw = max_width, th = std::max(1, int(std::lround(double(h) * tw / w)));
+    std::vector<unsigned char> small(std::size_t(tw) * th * 3);
+    if (!stbir_resize_uint8(rgb.data(), w, h, 0, small.data(), tw, th, 0, 3)) return t;
+    rgb.swap(small);
+    w = tw;
+    h = th;
+  }
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+  };
+  std::string jpeg, png;
+  stbi_write_jpg_to_func(append, &jpeg, w, h, 3, rgb.data(), 85);
+  stbi_write_png_to_func(append, &png, w, h, 3, rgb.data(), w * 3);
+  // Small images (a 32x32 test scene, an error map) are smaller, and sharp, as PNG.
+  const bool use_png = !png.empty() && (jpeg.empty() || png.size() <= jpeg.size());
+  t.bytes = use_png ? png : jpeg;
+  t.mime = use_png ? "image/png" : "image/jpeg";
+  t.width = w;
+  t.height = h;
+  if (t.bytes.empty()) t = {};
+  return t;
+}
+
+std::string html_thumbnail(const std::filesystem::path& file, const std::string& href, const std::string& alt) {
+  const Thumbnail t = make_thumbnail(file);
+  if (t.bytes.empty()) return "<p class=\"note\">missing image " + html_escape(file.string()) + "</p>";
+  return fmt::format("<a href=\"{}\"><img class=\"thumb\" alt=\"{}\" width=\"{}\" height=\"{}\" src=\"data:{};base64,{}\"></a>",
+                     html_escape(href), html_escape(alt), kThumbnailWidth,
+                     std::lround(double(t.height) * kThumbnailWidth / t.width), t.mime, base64(t.bytes));
+}
+
+std::string html_plot_file(const PlotResult& plot, const std::string& src, const std::string& alt) {
+  if (plot.svg.empty() || plot.file.empty()) return "<p class=\"note\">no plot: " + html_escape(plot.error) + "</p>";
+  return fmt::format("<a href=\"{0}\"><img class=\"plot\" loading=\"lazy\" width=\"{2}\" height=\"{3}\" alt=\"{1}\" "
+                     "src=\"{0}\"></a>",
+                     html_escape(src), html_escape(alt), kPlotWidth, kPlotHeight);
+}
+
+std::string html_plot_inline(const PlotResult& plot, const std::string& alt) {
+  if (plot.svg.empty()) return "<p class=\"note\">no plot: " + html_escape(plot.error) + "</p>";
+  // The document's prolog (<?xml?>, DOCTYPE) is no HTML: the <svg> element on.
+  const std::size_t at = plot.svg.find("<svg");
+  if (at == std::string::npos) return "<p class=\"note\">no plot: not an SVG document</p>";
+  return "<figure class=\"plot\" role=\"img\" aria-label=\"" + html_escape(alt) + "\">" + plot.svg.substr(at) +
+         "</figure>";
+}
+
+namespace {
+
+// "12580" → "12 580" (U+202F) from 5 digits on; the sign and decimals stay.
+std::string group_thousands(std::string s) {
+  const std::size_t begin = s[0] == '-' || s[0] == '+' ? 1 : 0;
+  const std::size_t end = std::min(s.find('.'), s.size());
+  if (end - begin < 5) return s;
+  for (std::size_t at = end; at > begin + 3; at -= 3) s.insert(at - 3, "\u202f");
+  return s;
+}
+
+}  // namespace
+
+std::string html_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "&minus;inf";
+  if (v == 0.0) return "0";
+  // 4 significant digits, in decimals: 3 after the first digit's place.
+  const int place = int(std::floor(std::log10(std::fabs(v))));
+  const int decimals = std::clamp(3 - place, 0, 20);
+  std::string s = fmt::format("{:.{}f}", v, decimals);
+  // Rounding up a place (9.9996 → "10.000"): one decimal fewer.
+  if (decimals > 0 && std::fabs(std::stod(s)) >= std::pow(10.0, place + 1)) s = fmt::format("{:.{}f}", v, decimals - 1);
+  if (s == "-0" || s.find_first_not_of("-0.") == std::string::npos) s = "0";  // below 10^-20
+  return group_thousands(s);
+}
+
 std::string html_figure(const nlohmann::json& v) {
   if (v.is_null()) return "&ndash;";
   if (v.is_string()) return html_escape(v.get<std::string>());
   if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
-  if (v.is_number()) return fmt::format("{:.4g}", v.get<double>());
+  if (v.is_number_integer() || v.is_number_unsigned()) return group_thousands(v.dump());
+  if (v.is_number()) return html_number(v.get<double>());
   return html_escape(v.dump());
 }
 
@@ -103,20 +191,26 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .triplet { display: flex; gap: 12px; flex-wrap: wrap; }
 .triplet figure { margin: 0; } .triplet figcaption { font-size: 12px; color: #555; }
 img.preview { width: 256px; image-rendering: pixelated; border: 1px solid #999; }
-img.plot { max-width: 760px; width: 100%; }
+img.thumb { width: 192px; height: auto; image-rendering: pixelated; border: 1px solid #999; }
+img.plot { max-width: 760px; width: 100%; height: auto; }
+figure.plot { margin: 0; max-width: 760px; } figure.plot svg { width: 100%; height: auto; }
 .note { color: #777; font-style: italic; }
 code, .small { font-size: 12px; }
 )";
   static const char* check_script = R"(
+if (location.hash === '#all')
+  document.querySelectorAll('img[loading="lazy"]').forEach(function (img) { img.loading = 'eager'; });
 window.addEventListener('load', function () {
   var images = document.querySelectorAll('img');
-  var ok = 0, broken = 0;
+  var ok = 0, broken = 0, deferred = 0;
   images.forEach(function (img) {
     if (img.complete && img.naturalWidth > 0) { ok++; }
+    else if (!img.complete && img.loading === 'lazy') { deferred++; }
     else { broken++; console.error('report: image did not load: ' + img.alt); }
   });
   document.body.setAttribute('data-images-ok', String(ok));
   document.body.setAttribute('data-images-broken', String(broken));
+  document.body.setAttribute('data-images-deferred', String(deferred));
 });
 )";
   return fmt::format(

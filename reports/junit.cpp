@@ -107,7 +107,7 @@ std::string junit_xml(const nlohmann::json& suite) {
     const nlohmann::json checks = row.value("checks", nlohmann::json::array());
     // A bug-museum scenario: its catching checks must fail, and one that
     // passes is the failure; its other checks only inform (the row's verdict
-    // is caught or missed, replay/cli/nightly.cpp).
+    // is caught or missed, app/nightly.cpp).
     const nlohmann::json bug = row.value("bug", nlohmann::json());
     auto catches = [&](const std::string& check) {
       if (!bug.is_object()) return false;

@@ -1,4 +1,4 @@
-// JUnit XML of a nightly (DESIGN §10) for CI dashboards: one <testcase> per
+// JUnit XML of a nightly (docs/design.md §10) for CI dashboards: one <testcase> per
 // scenario × check (classname = scenario, name = check), one more per
 // scenario named "baseline" for the figures no check owns (timings, per-frame
 // curves), a failed case carrying each regression's metric, baseline,
@@ -12,7 +12,7 @@
 
 namespace gi {
 
-// From the suite summary.json that replay/cli/nightly.cpp writes.
+// From the suite summary.json that app/nightly.cpp writes.
 std::string junit_xml(const nlohmann::json& suite_summary);
 
 std::string xml_escape(const std::string& text);

@@ -145,8 +145,11 @@ std::string image_section(const std::filesystem::path& scenario_dir, const std::
       const std::string caption = std::string(name) == "gpu" ? "output (GPU)"
                                   : std::string(name) == "embree" ? "reference (Embree)"
                                                                   : "error map |gpu-ref|/(|ref|+0.1)";
-      out += fmt::format("<figure><a href=\"{}\">{}</a><figcaption>{}</figcaption></figure>", href,
-                         html_image_file(png, scenario_rel + " " + e + " " + name), html_escape(caption));
+      // The thumbnail in the page, the full preview beside it.
+      out += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>",
+                         html_thumbnail(png, scenario_rel + "/previews/" + png.filename().string(),
+                                        scenario_rel + " " + e + " " + name),
+                         html_escape(caption));
     }
     out += "</div>\n";
   }
@@ -155,10 +158,10 @@ std::string image_section(const std::filesystem::path& scenario_dir, const std::
     const std::filesystem::path exr = c.get<std::string>();
     std::filesystem::path png = exr;
     png.replace_extension(".png");
-    captures += fmt::format("<figure><a href=\"{}\">{}</a><figcaption>{}</figcaption></figure>",
-                            html_escape(scenario_rel + "/" + exr.string()),
-                            html_image_file(scenario_dir / png, scenario_rel + " " + exr.string()),
-                            html_escape(exr.string()));
+    captures += fmt::format("<figure>{}<figcaption><a href=\"{}\">{}</a></figcaption></figure>",
+                            html_thumbnail(scenario_dir / png, scenario_rel + "/" + png.string(),
+                                           scenario_rel + " " + exr.string()),
+                            html_escape(scenario_rel + "/" + exr.string()), html_escape(exr.string()));
   }
   if (!captures.empty()) out += "<h4>captures</h4><div class=\"triplet\">" + captures + "</div>\n";
   return out.empty() ? "<p class=\"note\">no images</p>" : out;
@@ -167,7 +170,8 @@ std::string image_section(const std::filesystem::path& scenario_dir, const std::
 // An energy ratio a hair from 1 reads better as a signed percentage.
 std::string energy_change(const nlohmann::json& image) {
   if (!image.is_object() || !image.value("energy_ratio", nlohmann::json()).is_number()) return html_figure(nullptr);
-  return fmt::format("{:+.3g} %", (image["energy_ratio"].get<double>() - 1.0) * 100.0);
+  const double percent = (image["energy_ratio"].get<double>() - 1.0) * 100.0;
+  return (percent < 0 ? "&minus;" : "+") + html_number(std::fabs(percent)) + " %";
 }
 
 // The row's change against its exact baseline (reports/change.h): what
@@ -205,7 +209,8 @@ std::string change_section(const std::filesystem::path& out_dir, const nlohmann:
              {"difference", fmt::format("|Δ luminance|, white at {}", html_figure(image.value("heat_scale", 0.0)))}})
       if (images.contains(key))
         out += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>",
-                           html_image_file(out_dir / images[key].get<std::string>(), key), caption);
+                           html_thumbnail(out_dir / images[key].get<std::string>(), images[key].get<std::string>(), key),
+                           caption);
     out += "</div>\n";
   }
   return out;
@@ -324,6 +329,52 @@ std::string bug_museum(const nlohmann::json& bugs, const std::vector<nlohmann::j
   return head + "</p>\n" + html_table(header, table);
 }
 
+// The folder of the plots beside the page, and a plot's SVG file as the page
+// links it: relative to the page's folder.
+constexpr const char* kPlotsFolder = "plots";
+std::string plot_src(const PlotResult& plot) { return std::string(kPlotsFolder) + "/" + plot.file.filename().string(); }
+
+// The scene a path tracer's point of the scatter was measured at (its label
+// names only its spp): the run whose equal_time peer has the point's figures.
+std::string peer_scene(const std::vector<NamedSummary>& runs, double ms, double relmse) {
+  for (const NamedSummary& r : runs) {
+    const nlohmann::json eq = r.summary->value("equal_time", nlohmann::json::object());
+    if (!eq.is_object()) continue;
+    for (const char* key : {"gpu_path_tracer", "embree"}) {
+      const nlohmann::json peer = eq.value(key, nlohmann::json::object());
+      if (peer.is_object() && number_or_nan(peer.value("ms", nlohmann::json())) == ms &&
+          number_or_nan(peer.value("relmse", nlohmann::json())) == relmse)
+        return r.name;
+    }
+  }
+  return "";
+}
+
+// The speed-against-error scatter for the page: no label drawn (with dozens
+// of scenarios they pile up), each point's scenario and figures its hover
+// text; and the same points as a table (the legend, readable without a mouse).
+std::string speed_against_error_points(Plot& scatter, const std::vector<NamedSummary>& runs) {
+  scatter.hover_labels = true;
+  std::vector<std::vector<std::string>> rows;
+  for (PlotSeries& series : scatter.series) {
+    for (std::size_t k = 0; k < series.points.size() && k < series.labels.size(); ++k) {
+      const auto [ms, relmse] = series.points[k];
+      std::string scene = series.labels[k];
+      if (scene.size() > 4 && scene.compare(scene.size() - 4, 4, " spp") == 0) {  // a path tracer's point
+        const std::string at = peer_scene(runs, ms, relmse);
+        scene = at.empty() ? scene : at + " (" + scene + ")";
+      }
+      series.labels[k] = fmt::format("{}: {} ms/frame, relMSE {} ({})", scene, html_number(ms), html_number(relmse),
+                                     series.title);
+      rows.push_back({html_escape(series.title), html_escape(scene), "<span class=\"num\">" + html_number(ms) + "</span>",
+                      "<span class=\"num\">" + html_number(relmse) + "</span>"});
+    }
+  }
+  if (rows.empty()) return "";
+  return fmt::format("<details><summary>the plot's {} points (hover a point for its scenario)</summary>\n", rows.size()) +
+         html_table({"series", "scenario", "ms/frame", "relMSE"}, rows, "points") + "</details>\n";
+}
+
 }  // namespace
 
 std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir, const nlohmann::json& suite) {
@@ -356,10 +407,11 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
     if (p.summary.is_object() && !p.summary.empty()) runs.push_back({p.row.value("name", p.row.value("file", "?")), &p.summary});
   const std::size_t scatter_id = plots.size();
   plots.push_back(speed_against_error_plot(runs));
+  const std::string scatter_points = speed_against_error_points(plots.back(), runs);
   const nlohmann::json history = suite.value("timing_history", nlohmann::json::array());
   const std::size_t trend_id = plots.size();
   if (!history.empty()) plots.push_back(timing_trend_plot(history, timing_history_entry(suite, "tonight")));
-  const std::vector<PlotResult> drawn = render_plots(plots, out_dir / "plots");
+  const std::vector<PlotResult> drawn = render_plots(plots, out_dir / kPlotsFolder);
 
   std::string body = "<h1>giharness nightly</h1>\n";
   const nlohmann::json device = suite.value("device", nlohmann::json::object());
@@ -417,8 +469,8 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   body += "<h2>Figures against the baseline's tolerances</h2>\n";
   body += all_regressions.empty() ? "<p>no figure outside its tolerance</p>\n"
                                   : html_table(kRegressionHeader, all_regressions, "regressions");
-  body += "<h2>Speed against error</h2>\n" + html_plot(drawn[scatter_id], "speed against error") +
-          speed_against_error_tables(runs);
+  body += "<h2>Speed against error</h2>\n" + html_plot_inline(drawn[scatter_id], "speed against error") +
+          scatter_points + speed_against_error_tables(runs);
   const nlohmann::json timing = suite.value("timing", nlohmann::json::object());
   body += fmt::format("<h2>Timing against the baseline</h2>\n<p class=\"small\">{} scenarios regressed, {} improved, "
                       "{} unchanged, {} not compared ({} of them because the machine was loaded); {}</p>\n",
@@ -431,7 +483,7 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
   body += timing_rows.empty() ? "<p>no pass outside its interval</p>\n" : html_table(kTimingOverviewHeader, timing_rows);
   if (!history.empty())
     body += fmt::format("<h3>Trend over the last {} nights and this one</h3>\n", history.size()) +
-            html_plot(drawn[trend_id], "timing trend");
+            html_plot_file(drawn[trend_id], plot_src(drawn[trend_id]), "timing trend");
 
   for (const Page& p : pages) {
     const std::string name = p.row.value("name", p.row.value("file", "?"));
@@ -463,7 +515,8 @@ std::filesystem::path write_nightly_report(const std::filesystem::path& out_dir,
     if (p.row.contains("change")) body += "<h3>Bits against the exact baseline</h3>\n" + change_section(out_dir, p.row["change"]);
     if (p.row.contains("timing")) body += "<h3>Timing against the baseline</h3>\n" + timing_section(p.row["timing"]);
     body += "<h3>Per-frame curves</h3>\n";
-    for (std::size_t i = p.first_plot; i < p.first_plot + p.plot_count; ++i) body += html_plot(drawn[i], plots[i].title) + "\n";
+    for (std::size_t i = p.first_plot; i < p.first_plot + p.plot_count; ++i)
+      body += html_plot_file(drawn[i], plot_src(drawn[i]), plots[i].title) + "\n";
     const std::filesystem::path rel = std::filesystem::path(p.row["summary"].get<std::string>()).parent_path();
     body += "<h3>Images</h3>\n" + image_section(out_dir / rel, rel.string(), p.summary);
   }

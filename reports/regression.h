@@ -1,4 +1,4 @@
-// Comparing a scenario's figures with its baseline (DESIGN §10): per-metric
+// Comparing a scenario's figures with its baseline (docs/design.md §10): per-metric
 // tolerances chosen by name pattern, first match wins.
 //
 // - time figures (timings/…) are not compared by default: the timing verdict

@@ -31,7 +31,7 @@ std::pair<double, bool> last_error(const nlohmann::json& summary) {
   return {std::nan(""), false};
 }
 
-std::string cell(const nlohmann::json& v) { return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "&ndash;"; }
+std::string cell(const nlohmann::json& v) { return v.is_number() ? html_figure(v) : "&ndash;"; }
 
 }  // namespace
 

@@ -1,4 +1,4 @@
-// The nightly report's "Speed against error" (issue 17): one point per
+// The nightly report's "Speed against error": one point per
 // scenario (reference mode: the last compared frame's accumulated image;
 // realtime: one frame of the output), the path tracers at each realtime
 // scenario's ms/frame (summary.json "equal_time", replay/equal_time.h), a

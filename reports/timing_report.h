@@ -1,4 +1,4 @@
-// The timing verdicts in the nightly's outputs (issue 20): the suite's tally
+// The timing verdicts in the nightly's outputs: the suite's tally
 // and exit bit, the report's tables with each timing's interval, and the
 // history of past nights that the report draws the trend from.
 //

@@ -1,4 +1,4 @@
-// Timing verdicts (issue 20): is a pass slower than in its baseline, judged
+// Timing verdicts: is a pass slower than in its baseline, judged
 // from per-frame samples with a stated false-alarm rate, separately from the
 // correctness verdicts (reports/regression.h) so that a slow machine never
 // hides a failed check and never fails a night on its own unless asked.

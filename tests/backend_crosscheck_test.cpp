@@ -1,4 +1,4 @@
-// The two tracing backends on the same rays (DESIGN §4): `rayquery` (lavapipe's
+// The two tracing backends on the same rays (docs/design.md §4): `rayquery` (lavapipe's
 // ray queries) and `bvh` (the compute-shader BVH) must agree on hit/miss,
 // occlusion and t for 100 000 rays per scene — the Cornell box, the glTF
 // glossy room and a procedural cliff — and the CPU twin of the bvh traversal

@@ -1,5 +1,5 @@
 // The full realtime pipeline (DI + ReSTIR GI into the world cache + specular)
-// on both tracing backends (issue 9): the same scenario, seed and frames with
+// on both tracing backends: the same scenario, seed and frames with
 // `--backend rayquery` and `--backend bvh`. The two backends return the same
 // hits but t differs in its last bits (README, "Cross-check"), so the G-buffer
 // depth, and through it GI's reservoirs and the cache, differ in last bits

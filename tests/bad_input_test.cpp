@@ -1,5 +1,5 @@
 // Every class of bad input, as a script meets it: `giharness run` exits 2 and
-// its message names the file and the JSON path (issue 10's list). The unit
+// its message names the file and the JSON path (list). The unit
 // tests beside the parsers check the same errors in more depth; this holds the
 // contract at the command line, where a nightly meets it.
 #include <gtest/gtest.h>
@@ -54,6 +54,28 @@ TEST(BadInput, WarmupPastTheComparedFrame) {
                              "frames": 8, "mode": "realtime",
                              "checks": [{"name": "reference", "frames": [4], "warmup_frames": 6}]})";
   expect_exit_two(file, {"warmup_past_compared_frame.json", "/checks/0/warmup_frames"});
+}
+
+// A capture frame the scenario's own run never reaches is the file's mistake
+// (exit 2 at /capture/0), not a --frames matter (tests/cli_test.cpp: a run
+// shortened by --frames skips the later captures with a warning).
+TEST(BadInput, CaptureFramePastTheScenariosFrames) {
+  test::TempDir dir("capture-past-frames");
+  const auto file = dir.path() / "capture_past_frames.json";
+  std::ofstream(file) << R"({"name": "late_capture", "scene": {"generator": "cornell_box"}, "resolution": [16, 16],
+                             "frames": 8, "mode": "reference", "capture": [999]})";
+  expect_exit_two(file, {"capture_past_frames.json", "/capture/0"});
+  try {
+    load_scenario(file);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/capture/0");
+    EXPECT_NE(e.expected().find("below \"frames\" (8)"), std::string::npos) << e.what();
+  }
+  // The last frame is a frame of the run.
+  std::ofstream(file) << R"({"name": "last_capture", "scene": {"generator": "cornell_box"}, "resolution": [16, 16],
+                             "frames": 8, "mode": "reference", "capture": [7]})";
+  EXPECT_NO_THROW(load_scenario(file));
 }
 
 TEST(BadInput, MissingScenarioFile) {

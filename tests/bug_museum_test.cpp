@@ -1,4 +1,4 @@
-// The bug museum (issue 23): a scenario with a "bug" key re-creates a known
+// The bug museum: a scenario with a "bug" key re-creates a known
 // bug; the nightly calls it caught when every check it names fails, missed
 // otherwise (exit 1, a JUnit failure), and prints the suite's catch rate.
 // One caught and one missed bug from the same broken pipeline: ReSTIR GI

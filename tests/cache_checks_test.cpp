@@ -11,8 +11,8 @@
 
 #include "core/errors.h"
 #include "core/scenario.h"
-#include "replay/checks/blend_lag_check.h"
-#include "replay/checks/cache_lifetime_check.h"
+#include "checks/blend_lag_check.h"
+#include "checks/cache_lifetime_check.h"
 #include "replay/run_scenario.h"
 #include "tests/test_support.h"
 

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "core/exr_io.h"
-#include "replay/cli/sweep_plan.h"
+#include "app/sweep_plan.h"
 #include "reports/baseline_store.h"
 #include "reports/change.h"
 #include "tests/test_support.h"
@@ -185,7 +185,7 @@ TEST(ChangeDetectionUnit, OnlyAnExactBaselineJudgesBits) {
   cpu_only.summary.erase("hashes");
   EXPECT_NE(detect_change(cpu_only)["reason"].get<std::string>().find("records no image"), std::string::npos);
 
-  // Hashes of another scheme (XXH3 before issue 16 moved hashing to the GPU).
+  // Hashes of another scheme (XXH3 before hashing moved to the GPU).
   base = summary_with(device("Mesa 25.0.7"), "c", "x");
   base["hashes"]["scheme"] = "xxh3-64";
   in.baseline = base;

@@ -1,4 +1,4 @@
-// The check registry (replay/checks/check_registry.h): every check the parser
+// The check registry (checks/check_registry.h): every check the parser
 // accepts is made through it, declares what it reads, and a FrameView holds
 // it to that declaration.
 #include <filesystem>
@@ -13,7 +13,7 @@
 #include "core/profile.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
-#include "replay/checks/check_registry.h"
+#include "checks/check_registry.h"
 #include "replay/run_scenario.h"
 #include "tests/test_support.h"
 
@@ -31,12 +31,12 @@ Scenario realtime_gi_scenario(const nlohmann::json& checks) {
   return parse_scenario(doc, "registry.json");
 }
 
-// Every check file (replay/checks/<name>_check.cpp; realtime_reference is the
+// Every check file (checks/<name>_check.cpp; realtime_reference is the
 // reference check's realtime half) registers its check: a registration the
 // linker dropped, or a file that forgot one, fails here.
 std::set<std::string> check_files() {
   std::set<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator(test::source_dir() / "replay/checks")) {
+  for (const auto& e : std::filesystem::directory_iterator(test::source_dir() / "checks")) {
     const std::string f = e.path().filename().string();
     const std::string suffix = "_check.cpp";
     if (f.size() > suffix.size() && f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0 &&

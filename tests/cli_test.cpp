@@ -41,8 +41,11 @@ TEST(Cli, MissingScenarioFileExitsTwo) {
   EXPECT_NE(r.output.find("/nonexistent/scenario.json"), std::string::npos);
 }
 
+// The message names the option, so a script's log says which flag is wrong.
 TEST(Cli, UnknownOptionExitsTwo) {
-  EXPECT_EQ(test::run_giharness("run --no-such-option x.json").exit_code, 2);
+  const test::CommandResult r = test::run_giharness("run --no-such-option x.json");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--no-such-option"), std::string::npos) << r.output;
 }
 
 // A small scenario file for the runs below (the real ones are 320x180).

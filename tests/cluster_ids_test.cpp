@@ -1,15 +1,16 @@
-// The cluster_ids check (replay/checks/cluster_ids_check.h) fires on the
+// The cluster_ids check (checks/cluster_ids_check.h) fires on the
 // overflow it exists for: counted (no device) on the published 1042-cliff
 // figure and on real DAGs, and rendered with a 12-bit ID where the decoded IDs
 // start naming the wrong instance exactly at the named spawn.
 #include <gtest/gtest.h>
 
 #include "core/clusters/cluster_ids.h"
+#include "core/errors.h"
 #include "core/clusters/cluster_table.h"
 #include "core/scenario.h"
 #include "core/scene_builder.h"
 #include "core/scenes/cliff.h"
-#include "replay/checks/cluster_ids_check.h"
+#include "checks/cluster_ids_check.h"
 #include "replay/run_scenario.h"
 #include "tests/test_support.h"
 
@@ -92,6 +93,31 @@ TEST(ClusterIds, CountOnlyUsesEachMeshsDagAndDespawnsFreeIds) {
   const gi::ClusterIdsCheck ok(gi::cluster_ids_params(c.checks[0], c), c, gi::build_scene(c), c.frames);
   EXPECT_FALSE(ok.overflow());
   EXPECT_TRUE(ok.result().passed()) << ok.result().message;
+}
+
+// A count-only cluster_ids check decides the run without drawing, so a check
+// that needs drawn frames beside it is bad input at that check's name (exit
+// 2), before any device is opened; alone it writes the run's summary.
+TEST(ClusterIds, CountOnlyRefusesADrawnCheckBesideIt) {
+  gi::test::TempDir dir("cluster_ids_count_only_alone");
+  nlohmann::json doc = {{"name", "count_beside"},
+                        {"scene", {{"generator", "cliff"}, {"params", {{"triangles", 3000}}}}},
+                        {"resolution", {8, 8}},
+                        {"frames", 4},
+                        {"checks", {{{"name", "cluster_ids"}, {"count_only", true}}, {{"name", "finite"}}}}};
+  try {
+    run(gi::parse_scenario(doc, "count_beside.json"), dir.path() / "beside");
+    ADD_FAILURE() << "a finite check beside a count-only cluster_ids check ran";
+  } catch (const gi::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/checks/1/name"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("count-only"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "beside/summary.json"));
+  doc["checks"].erase(1);
+  const gi::RunResult alone = run(gi::parse_scenario(doc, "count_alone.json"), dir.path() / "alone");
+  EXPECT_EQ(alone.exit_code, 0) << alone.checks.at(0).message;
+  const nlohmann::json summary = nlohmann::json::parse(gi::test::read_text(dir.path() / "alone/summary.json"));
+  EXPECT_EQ(summary["resolved"]["mode"], "count_only");
 }
 
 // The CPU decode (what gbuffer_resolve.comp does) finds every drawn triangle

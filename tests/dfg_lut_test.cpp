@@ -13,7 +13,7 @@
 #include "core/scenes/cornell_box.h"
 #include "core/shared/brdf.h"
 #include "core/profile.h"
-#include "replay/realtime_settings.h"
+#include "gpu/realtime_settings.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// ReSTIR DI as Bevy ships it (issue 15): each DI behaviour that differed from
+// ReSTIR DI as Bevy ships it: each DI behaviour that differed from
 // Solari is a profile switch whose profile value is Bevy's and whose other
 // value is the harness's old behaviour. One test per switch shows that it
 // changes what it claims, on small realtime runs of the giharness binary whose
@@ -23,6 +23,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -355,16 +356,26 @@ TEST(DiFidelity, DefensiveVisibilityMisGivesTheCanonicalSampleTheShareTheNeighbo
   const MergeResult temporal = merge_di_reservoirs_defensive(c, o, t, false, 0.0f);
   const MergeResult plain = merge_di_reservoirs(c, o, t, true, 0.0f);
   EXPECT_EQ(temporal.merged.unbiased_contribution_weight, plain.merged.unbiased_contribution_weight);
-  // For any one sample, the two techniques' weights sum to one.
-  for (float po : {0.0f, 0.5f, 2.0f})
-    for (float pc : {0.1f, 1.0f, 5.0f}) {
-      const float s = 1.0f / 4.0f;
-      const float a = s + (1.0f - s) * balance_mis(1.0f * pc, 3.0f * po);
-      const float b = (1.0f - s) * balance_mis(3.0f * po, 1.0f * pc);
-      if (pc > 0.0f || po > 0.0f) {
-        EXPECT_NEAR(a + b, 1.0f, 1e-6f);
-      }
-    }
+  // For any one sample, the two techniques' weights sum to one: with both
+  // reservoirs holding the same sample x (so p_c(x_c) = p_c(x_o) = pc and
+  // p_o(x_c) = p_o(x_o) = po) and W = 1 each, the merge's resampling weights
+  // are mis_c·pc + mis_o·pc, and its W = (w_c + w_o)/p_c(x) is mis_c + mis_o.
+  // Over confidences, targets (po = 0: the neighbour cannot see x) and the
+  // random number picking either reservoir.
+  for (const auto& [cm, om] :
+       {std::pair{1.0f, 3.0f}, std::pair{2.0f, 2.0f}, std::pair{5.0f, 1.0f}, std::pair{1.0f, 19.0f}})
+    for (float po : {0.0f, 0.5f, 2.0f})
+      for (float pc : {0.1f, 1.0f, 5.0f})
+        for (float u : {0.0f, 0.5f, 0.999f}) {
+          DiReservoir a = c, b = o;
+          a.confidence_weight = cm;
+          b.confidence_weight = om;
+          const MergeTargets same{pc, po, po, pc};
+          const MergeResult r = merge_di_reservoirs_defensive(a, b, same, true, u);
+          EXPECT_NEAR(r.merged.unbiased_contribution_weight, 1.0f, 1e-6f)
+              << "c.M " << cm << ", o.M " << om << ", pc " << pc << ", po " << po << ", u " << u;
+          EXPECT_EQ(r.selected_target, pc);
+        }
 }
 
 TEST(DiFidelity, BevysDiAndVisibilityMisAreBitIdenticalAcrossRunsAndThreadCounts) {

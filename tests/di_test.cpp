@@ -1,4 +1,4 @@
-// Realtime DI end to end (issue 3), on the shipped DI scenarios run through
+// Realtime DI end to end, on the shipped DI scenarios run through
 // the giharness binary: the packing-range energy loss of plain rgb9e5 (0.17)
 // is caught with the measured ratio in the message and goes away when only the
 // packing is switched; the 0.17 visibility order (spatial ray fed forward)

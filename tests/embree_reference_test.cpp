@@ -403,21 +403,5 @@ TEST(Metrics, ComparisonVerdicts) {
   EXPECT_FALSE(cn.judge(3.0, 0.05).inconclusive);
 }
 
-// --- timing (not a test: run with --gtest_also_run_disabled_tests) ------------------
-
-TEST(EmbreeReference, DISABLED_TimingCornell320x180) {
-  const Scene scene = make_cornell_box();
-  ReferenceOptions o;
-  o.width = 320;
-  o.height = 180;
-  o.spp = 64;
-  o.threads = 2;
-  render_reference(scene, {32, 18, 1});  // warm up
-  const ReferenceResult r = render_reference(scene, o);
-  std::printf("Cornell 320x180, %u spp, 2 threads: %.3f s (%.2f s per 1000 spp), %.3g rays, %.2f Mrays/s, %.2f rays/path\n",
-              o.spp, r.seconds, r.seconds * 1000.0 / o.spp, double(r.rays), r.rays / r.seconds * 1e-6,
-              double(r.rays) / (double(o.width) * o.height * o.spp));
-}
-
 }  // namespace
 }  // namespace gi

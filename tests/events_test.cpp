@@ -9,7 +9,7 @@
 #include "core/scenario.h"
 #include "core/scene_builder.h"
 #include "core/scenes/cornell_box.h"
-#include "replay/events.h"
+#include "core/scene_events.h"
 
 using nlohmann::json;
 

@@ -1,4 +1,4 @@
-// Observation on the GPU (issue 16): the buffer hash computed by
+// Observation on the GPU: the buffer hash computed by
 // buffer_hash.comp equals its CPU twin (core/shared/word_hash.h) on the same
 // bytes, and the frame output pass makes the image the CPU made before, bit
 // for bit, with the measures the CPU took of it.
@@ -18,7 +18,7 @@
 #include "gpu/device.h"
 #include "gpu/renderer.h"
 #include "gpu/shader_compiler.h"
-#include "replay/realtime_settings.h"
+#include "gpu/realtime_settings.h"
 #include "tests/test_support.h"
 
 namespace gi {
@@ -64,7 +64,7 @@ class BufferHashGpu : public ::testing::Test {
   std::optional<gpu::ShaderCompiler> compiler_;
 };
 
-// The test issue 16 asks for: the GPU's hash of a buffer is the CPU's hash of
+// The test observation on the GPU stands on: the GPU's hash of a buffer is the CPU's hash of
 // the same bytes, at sizes around the chunk (16 words) and the workgroup
 // (64 chunks), for a range at an offset, and in either buffer memory mode.
 TEST_F(BufferHashGpu, GpuHashIsTheCpuHashOfTheSameBytes) {

@@ -1,4 +1,4 @@
-// The furnace check (issue 23): the white furnace of each Solari BRDF Bevy
+// The furnace check: the white furnace of each Solari BRDF Bevy
 // shipped or fixed. Each museum piece fails on its bug's model and passes
 // with the model its fix left (scenarios/bugs/bevy_{23442,23737,24243,24246}_*),
 // device-free; the quadrature it rests on meets closed forms; a furnace

@@ -1,4 +1,4 @@
-// The `jacobian` and `finite` checks on ReSTIR GI and specular GI (issue 5),
+// The `jacobian` and `finite` checks on ReSTIR GI and specular GI,
 // end to end through the giharness binary, each shown to fire on the bug it
 // exists for and to pass on the fixed pipeline:
 // - jacobian: gi_corners passes under 0.18 (rejection above 1.2); with the
@@ -88,7 +88,7 @@ TEST(GiScenario, JacobianCheckWithoutGiIsBadInput) {
 }
 
 // ReSTIR GI and specular GI terminating in the world cache (restir_gi.hit_radiance
-// world_cache, DESIGN §3 step 7): the full realtime image of the Cornell box
+// world_cache, docs/design.md §3 step 7): the full realtime image of the Cornell box
 // keeps its energy against the Embree full-GI reference, and the cache is
 // alive (the GI passes' pixel-rooted queries insert and refresh cells).
 TEST(GiWorldCache, CornellBoxEnergyWithinFivePercentAndCacheCellsActive) {

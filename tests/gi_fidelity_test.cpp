@@ -1,4 +1,4 @@
-// ReSTIR GI as Bevy's Solari ships it (issue 15): each behaviour switch whose
+// ReSTIR GI as Bevy's Solari ships it: each behaviour switch whose
 // profile value is Bevy's and whose other value is the harness's earlier
 // model changes what it claims, end to end on lavapipe (small images, few
 // frames). The profiles cite the Bevy lines (scenarios/profiles/*.json).
@@ -387,7 +387,7 @@ TEST(GiFidelity, CacheAtEveryVertexAddsToTheSpecularSignal) {
   EXPECT_EQ(signal_mean(every, "di", 0), signal_mean(ended, "di", 0));
 }
 
-// Issue 25's measure: a run with two chains reports each signal's per-frame
+// Per-signal noise: a run with two chains reports each signal's per-frame
 // noise from the chains and over time; a one-chain run reports only the
 // temporal figure, and says so with a null.
 TEST(GiNoise, TwoChainRunsReportPerSignalNoise) {
@@ -413,7 +413,7 @@ TEST(GiNoise, TwoChainRunsReportPerSignalNoise) {
   EXPECT_GT(one.summary["noise"]["temporal"]["signals"]["gi"].get<double>(), 0.0);
 }
 
-// Issue 25: with unbiased (consistent) weights, GI's per-frame noise rises
+// Reuse noise: with unbiased (consistent) weights, GI's per-frame noise rises
 // with the confidence cap when the history a pixel reuses is not its own:
 // Solari's spatial result stored as next frame's history (v0.18.0
 // realtime/restir_gi.wgsl:74,159) and the permuted temporal pixel (:136-142)
@@ -445,9 +445,9 @@ TEST(GiNoise, NoiseFallsWithTheCapWhenEachPixelReusesItsOwnHistory) {
   EXPECT_GT(bevy32, bevy1 * 1.2) << bevy1 << " " << bevy32;
 }
 
-// Issue 17's GI noise breakdown: restir_gi.temporal_reuse false leaves each
+// The GI noise breakdown of speed against error: restir_gi.temporal_reuse false leaves each
 // pixel its initial sample (spatial reuse off too), and temporal reuse of the
-// pixel's own history (issue 25's unpermuted temporal-merge history) at
+// pixel's own history (unpermuted temporal-merge history) at
 // least halves GI's per-frame noise from there. Room-scale Cornell box, 64²,
 // 48 frames, noise from the two chains at the last frame. (With Solari's
 // topology, permuted and without spatial reuse, this short run shows no

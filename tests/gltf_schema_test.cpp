@@ -1,4 +1,4 @@
-// Strict glTF 2.0 schema validation (core/gltf_schema.h, issue 19): one case
+// Strict glTF 2.0 schema validation (core/gltf_schema.h): one case
 // per rule class and object kind, each breaking a valid document that uses
 // every object kind in exactly one place and asserting the JSON pointer of
 // the InputError. Then the project's own files: every shipped valid glTF
@@ -43,6 +43,7 @@ json full_document() {
   doc.merge_patch(json::parse(R"({
     "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular",
                        "KHR_materials_ior", "KHR_texture_transform"],
+    "extensionsRequired": ["KHR_lights_punctual"],
     "asset": {"version": "2.0", "generator": "gltf_schema_test", "copyright": "none", "minVersion": "2.0"},
     "scene": 0,
     "scenes": [{"nodes": [0, 1, 2, 4]}],
@@ -235,6 +236,83 @@ TEST(GltfSchema, WrongJsonTypeInEachObjectKind) {
       {"/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/offset", 0},
       {"/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/texCoord", 1.5},
   });
+}
+
+// ---- string-typed properties, every one of the schema ---------------------------
+
+// The row's pointer with each "*" as item 0: where full_document() has it.
+std::string first_item(const std::string& pattern) {
+  std::string out;
+  for (std::size_t at = 0; at < pattern.size(); ++at)
+    out += pattern.compare(at, 2, "/*") == 0 ? (++at, std::string("/0")) : std::string(1, pattern[at]);
+  return out;
+}
+
+std::string expected_at(const json& doc, const std::string& pointer) {
+  try {
+    validate_gltf_document(doc, "test.gltf", false);
+    return kValid;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), pointer) << e.what();
+    return e.expected();
+  }
+}
+
+// Each row of the table (the schema's string-typed properties): a number
+// there is "a string" at its pointer, any string passes (the enums: only
+// their values, the version pattern: only <major>.<minor>).
+TEST(GltfSchema, EveryStringTypedPropertyMustBeAString) {
+  const json full = full_document();
+  ASSERT_GE(gltf_string_properties().size(), 29u);
+  for (const GltfStringProperty& p : gltf_string_properties()) {
+    SCOPED_TRACE(p.pointer + " (" + p.schema + ")");
+    const std::string at = first_item(p.pointer);
+    const json::json_pointer ptr(at);
+    ASSERT_TRUE(full.contains(ptr.parent_pointer())) << "full_document() has no " << ptr.parent_pointer().to_string();
+    for (const json& wrong : {json(42), json(true), json::array({"x"}), json::object(), json(nullptr)}) {
+      const std::string expected = expected_at(with(full, at, wrong), at);
+      EXPECT_EQ(expected.rfind("a string", 0), 0u) << wrong.dump() << ": " << expected;
+    }
+    // A string passes: the one there, else the enum's first value, a version, a name.
+    const std::string fine = full.contains(ptr)  ? full[ptr].get<std::string>()
+                             : !p.values.empty() ? p.values.front()
+                             : !p.pattern.empty() ? "2.0"
+                                                  : "any name";
+    EXPECT_EQ(first_violation(with(full, at, fine)), kValid) << fine;
+    if (!p.values.empty()) {
+      const std::string expected = expected_at(with(full, at, "NOT_" + p.values.front()), at);
+      EXPECT_EQ(expected.rfind("one of \"" + p.values.front() + "\"", 0), 0u) << expected;
+    }
+    if (!p.pattern.empty())
+      for (const char* bad : {"2", "2.0.1", "02.0", "2.x", " 2.0", "2.1234567890"})
+        EXPECT_EQ(first_violation(with(full, at, bad)), at) << bad;
+    if (p.required) EXPECT_EQ(first_violation(without(full, at)), ptr.parent_pointer().to_string());
+  }
+}
+
+// Every object kind the root holds is a glTFChildOfRootProperty, with a name:
+// the table has one for each array of full_document() (which uses them all).
+TEST(GltfSchema, EveryChildOfTheRootHasItsNameChecked) {
+  std::vector<std::string> kinds = {"/extensions/KHR_lights_punctual/lights"};
+  const json full = full_document();
+  for (const auto& [key, value] : full.items())
+    if (value.is_array() && value[0].is_object()) kinds.push_back("/" + key);
+  EXPECT_EQ(kinds.size(), 14u);  // the 13 arrays of objects of glTF.schema.json, + lights
+  for (const std::string& kind : kinds) {
+    const auto& t = gltf_string_properties();
+    EXPECT_TRUE(std::any_of(t.begin(), t.end(), [&](const GltfStringProperty& p) { return p.pointer == kind + "/*/name"; }))
+        << kind;
+    EXPECT_EQ(first_violation(with(full, kind + "/0/name", 42)), kind + "/0/name");
+  }
+}
+
+TEST(GltfSchema, ASceneNamedByANumberIsNamedInTheMessage) {
+  try {
+    validate_gltf_document(with(test::TinyGltf{}.doc(), "/scenes/0/name", 42), "scene.gltf", false);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "scene.gltf: /scenes/0/name: a string");
+  }
 }
 
 // ---- index references, every kind ---------------------------------------------
@@ -607,6 +685,28 @@ TEST(GltfSchemaImport, CommittedInvalidSamplesAreRejectedAtTheirRecordedPath) {
       EXPECT_EQ(e.json_path(), path) << e.what();
     }
   }
+}
+
+// scenes[0].name = 42, through the importer and the command line: an
+// InputError, exit 2, naming the file and /scenes/0/name.
+TEST(GltfSchemaImport, ASceneNameThatIsANumberIsExitTwo) {
+  test::TempDir dir("gltf_scene_name");
+  const fs::path gltf = dir.path() / "named.gltf";
+  std::ofstream(gltf) << with(test::TinyGltf{}.doc(), "/scenes/0/name", 42).dump(1);
+  try {
+    (void)import_gltf(gltf);
+    ADD_FAILURE() << "imported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.json_path(), "/scenes/0/name") << e.what();
+    EXPECT_EQ(e.expected(), "a string") << e.what();
+  }
+  const fs::path scenario = dir.path() / "scenario.json";
+  std::ofstream(scenario) << json{{"name", "named"}, {"scene", {{"gltf", gltf.string()}}}, {"resolution", {8, 8}},
+                                  {"frames", 1}, {"mode", "reference"}}
+                                 .dump();
+  const test::CommandResult r = test::run_giharness("run " + scenario.string() + " --out " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("named.gltf: /scenes/0/name: a string"), std::string::npos) << r.output;
 }
 
 // What a user sees: `giharness run` on a scenario of each sample is exit 2,

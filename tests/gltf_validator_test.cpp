@@ -1,4 +1,4 @@
-// The field's oracle against the importer (issue 19): Khronos glTF-Validator
+// The field's oracle against the importer: Khronos glTF-Validator
 // (npm gltf-validator 2.0.0-dev.3.10, installed by .ci/setup, run through
 // tests/gltf_validate.mjs) on every glTF the project ships. A file it finds
 // errors in must make gi::import_gltf throw gi::InputError; a file it finds

@@ -4,7 +4,6 @@
 // ray queries (lavapipe), else on bvh (NVIDIA H200, Mesa 22): test_backend().
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -386,25 +385,6 @@ TEST_F(Gpu, ReferenceIsBitIdenticalAcrossRunsAndLitWallsArePositive) {
   }
   EXPECT_GT(wall_pixels, 20);
   EXPECT_GT(red_sum.x, red_sum.y) << "the red wall reflects red";
-}
-
-// Not a test (timings are never asserted): reference-mode ms/frame at 320x180,
-// 1 spp, on the Cornell box. Run with --gtest_also_run_disabled_tests.
-TEST_F(Gpu, DISABLED_ReferenceTiming320x180) {
-  CornellSetup s;
-  Renderer r(*device_, *compiler_, s.geometry, {320, 180, false, true});
-  r.update_scene(s.instances, s.visible);
-  std::vector<double> gpu_ms, wall_ms;
-  for (std::uint32_t f = 0; f < 12; ++f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    r.render_frame(s.frame(320, 180, f, 1, f));
-    wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    gpu_ms.push_back(r.last_timings().at(0).ms);
-  }
-  std::sort(gpu_ms.begin() + 2, gpu_ms.end());
-  std::sort(wall_ms.begin() + 2, wall_ms.end());
-  std::printf("reference 320x180 1spp: median GPU %.2f ms, wall %.2f ms (%s, LP_NUM_THREADS=%s)\n", gpu_ms[7],
-              wall_ms[7], device_->info().driver_info.c_str(), device_->info().lp_num_threads.c_str());
 }
 
 }  // namespace

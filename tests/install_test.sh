@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Install test (issue 21, "relocatable install"): the installed giharness
+# Install test ("relocatable install"): the installed giharness
 # needs no source tree.
 #
 #   tests/install_test.sh BUILD_DIR SOURCE_DIR

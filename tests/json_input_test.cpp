@@ -1,6 +1,6 @@
 // The guarded JSON reader (core/json_input.h): hostile documents are bad
 // input (exit 2, file, JSON Pointer, line and column), never a crash or an
-// internal error. The rows of issue 22's table, each through the binary, then
+// internal error. The rows of the bad-input table, each through the binary, then
 // each guard on its own.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The luminance_range check (replay/checks/luminance_range_check.cpp) fires on
+// The luminance_range check (checks/luminance_range_check.cpp) fires on
 // the frame that goes black, passes without it, and refuses a range upside
 // down as bad input at its path.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Nothing one scenario does takes the night down (issue 22): the nightly runs
+// Nothing one scenario does takes the night down: the nightly runs
 // each scenario in a process of its own, so a hostile file, a crash, a hang
 // and a lost device each become that scenario's verdict, the others pass,
 // and the summary, the report and JUnit are written. The faults are forced

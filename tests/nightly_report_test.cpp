@@ -17,7 +17,7 @@
 
 #include <fmt/format.h>
 
-#include "replay/cli/sweep_plan.h"
+#include "app/sweep_plan.h"
 #include "tests/test_support.h"
 
 extern char** environ;
@@ -216,6 +216,19 @@ TEST(Nightly, ShardsMergedGiveTheUnshardedVerdicts) {
   EXPECT_EQ(expected.size(), 3u * 4u + 1u);
   EXPECT_EQ(verdicts(dir.path() / "merged"), expected);
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "merged/report.html"));
+  // The merged page is the night's front door: light (plots are SVG files
+  // beside it, images thumbnails), every plot it shows there.
+  const std::string page = test::read_text(dir.path() / "merged/report.html");
+  EXPECT_EQ(page.find("data:image/svg"), std::string::npos);
+  EXPECT_LT(page.size(), 3u * 40000u + 60000u);
+  std::size_t plots = 0;
+  for (std::size_t at = page.find("src=\"plots/"); at != std::string::npos; at = page.find("src=\"plots/", at + 1)) {
+    const std::size_t begin = at + 5, end = page.find('"', begin);
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir.path() / "merged" / page.substr(begin, end - begin)))
+        << page.substr(begin, end - begin);
+    ++plots;
+  }
+  EXPECT_GE(plots, 3u);
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "merged/tiny_no_blocks/summary.json"));
   // A scenario in two shards is bad input.
   EXPECT_EQ(test::run_giharness("merge " + (dir.path() / "s1").string() + " " + (dir.path() / "s1").string() +

@@ -1,4 +1,4 @@
-// Profile sources (issue 15): every value of every profile in
+// Profile sources: every value of every profile in
 // scenarios/profiles/ says where Bevy has it. A source begins with a citation
 // of Bevy's code at a release tag, `v0.18.0:realtime/restir_di.wgsl:31`
 // (path relative to crates/bevy_solari/src/, or from the repository root for

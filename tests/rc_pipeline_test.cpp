@@ -11,6 +11,7 @@
 #include "core/exr_io.h"
 #include "core/profile.h"
 #include "core/rc/rc_settings.h"
+#include "gpu/profile_keys.h"
 #include "gpu/device.h"
 #include "gpu/rc/rc_pipeline.h"
 #include "gpu/shader_compiler.h"

@@ -9,6 +9,7 @@
 #include "core/profile.h"
 #include "core/rc/canvas.h"
 #include "core/rc/rc_settings.h"
+#include "gpu/profile_keys.h"
 #include "core/scenario.h"
 #include "core/shared/rc/cascades.h"
 #include "core/shared/rc/shapes.h"

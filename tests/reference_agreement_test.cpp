@@ -17,7 +17,7 @@ namespace {
 constexpr std::uint32_t kSize = 64;
 constexpr std::uint32_t kGpuFrames = 256;  // one sample per frame, accumulated
 constexpr std::uint32_t kEmbreeSpp = 1024;
-constexpr double kNoiseFactor = 3.0;       // relMSE ≤ 3 × combined noise (issue 2)
+constexpr double kNoiseFactor = 3.0;       // relMSE ≤ 3 × combined noise
 constexpr double kEnergyTolerance = 0.01;  // energy within 1%
 
 ReferenceResult embree(const Scene& scene) {

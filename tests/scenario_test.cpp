@@ -163,7 +163,7 @@ const BadCase kBadCases[] = {
     {"unknown_light_name.json", "/events/0/light", true, "\"lamp\""},
     {"unknown_generator.json", "/scene/generator", true, "\"cornel_box\""},
     {"unknown_mesh_generator.json", "/events/0/mesh/generator", true, "unknown mesh generator"},
-    // The radiance-cascades pipeline (issue 18): its own checks, events, shapes and keys.
+    // The radiance-cascades pipeline: its own checks, events, shapes and keys.
     {"rc_solari_check.json", "/checks/0/name", false, "expected an rc_* check"},
     {"rc_spawn_event.json", "/events/0/type", false, "for the radiance_cascades pipeline, got \"despawn\""},
     {"rc_light_on_occluder.json", "/events/0/light", false, "an emitting shape, got \"wall\""},

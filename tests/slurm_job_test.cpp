@@ -1,4 +1,4 @@
-// `giharness nightly --slurm N` (issue 20): the job scripts it writes. They
+// `giharness nightly --slurm N`: the job scripts it writes. They
 // are executed here with bash, fake SLURM_* variables and stubs of
 // giharness, scontrol and sbatch on PATH that record their argv, so the
 // device mapping, the resume and the requeue are tested as bash runs them,
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/errors.h"
-#include "replay/cli/slurm_job.h"
+#include "app/slurm_job.h"
 #include "tests/test_support.h"
 
 namespace gi {

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/errors.h"
-#include "replay/cli/sweep_plan.h"
+#include "app/sweep_plan.h"
 #include "tests/test_support.h"
 
 namespace gi {

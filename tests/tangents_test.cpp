@@ -1,4 +1,4 @@
-// MikkTSpace tangents (core/tangents.h, issue 19) against the original:
+// MikkTSpace tangents (core/tangents.h) against the original:
 // tests/data/gltf/tangent_oracle.gltf holds, per mesh, the unwelded corners
 // with the tangents the reference implementation gave them (npm `mikktspace`,
 // made by tests/data/gltf/make_tangent_oracle.mjs) and each corner's vertex

@@ -1,4 +1,4 @@
-// The timing verdict end to end on the device (issue 20): a baseline taken
+// The timing verdict end to end on the device: a baseline taken
 // with the calibration kernel, then the same scenario with one pass really
 // slowed (GIHARNESS_TEST_SLOW_PASS repeats its dispatch): the nightly names
 // that pass, leaves the correctness verdict and the bits alone, and sets exit

@@ -1,4 +1,4 @@
-// The nightly's timing verdicts (issue 20, reports/timing_verdict.h), in
+// The nightly's timing verdicts (reports/timing_verdict.h), in
 // process on synthetic timing sets: an unchanged pass stays quiet, a slowed
 // one is flagged, a machine 2x faster or slower of the same class compares
 // through the calibration kernel, a load on part of the run is absorbed, and
@@ -165,7 +165,7 @@ TEST(TimingVerdict, TheSameInputsGiveTheSameInterval) {
   EXPECT_GE(x.high, x.ratio);
 }
 
-// Issue 20's calibration test: a baseline taken on one machine and an
+// The calibration test: a baseline taken on one machine and an
 // unchanged tree on one of the same class 2x slower or 2x faster.
 TEST(TimingVerdict, AMachineTwiceAsFastOrSlowCompares) {
   const TimingSamples base = timing_samples(summary_of_run(1, 1.0));

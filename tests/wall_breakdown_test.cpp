@@ -100,8 +100,9 @@ TEST(WallBreakdown, TheSuiteTotalAddsTheRuns) {
 // The reference cache key hashes its roots and what they include of
 // core/shared and core/reference, transitively (relative includes beside the
 // includer), and nothing else: an edit of a header the reference does not
-// include keeps every cached reference; an edit of one it does, even two
-// includes deep, renders them again.
+// include keeps every cached reference, and so does an edit of a comment or
+// of white space; an edit of the code of one it does, even two includes deep,
+// renders them again.
 class ReferenceSourcesHash : public ::testing::Test {
  protected:
   test::TempDir dir{"reference_sources_hash"};
@@ -137,10 +138,12 @@ TEST_F(ReferenceSourcesHash, FollowsTheIncludesAndNothingElse) {
   write("core/shared/unrelated.h", "int u2;\n");
   write("core/other.h", "int o2;\n");
   EXPECT_EQ(hash(), first);
+  write("core/shared/b.h", "// why b is an int\nint   b;  // a comment\n\n");  // comments and layout only
+  EXPECT_EQ(hash(), first);
   write("core/shared/b.h", "int b2;\n");  // two includes deep, relative to its includer
   const std::string second = hash();
   EXPECT_NE(second, first);
-  write("core/reference/embree_x.cpp", "#include \"core/shared/a.h\"\n#include <vector>\n// edited\n");
+  write("core/reference/embree_x.cpp", "#include \"core/shared/a.h\"\n#include <vector>\nint edited;\n");
   EXPECT_NE(hash(), second);
 }
 

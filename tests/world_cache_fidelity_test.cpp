@@ -1,4 +1,4 @@
-// The world cache as Solari 0.19 ships it (issue 15): each of 0.19's query
+// The world cache as Solari 0.19 ships it: each of 0.19's query
 // and update behaviours is a profile switch (0.17's and 0.18's value the
 // other one), and each changes what it claims. The shared maths are held on
 // the CPU; on lavapipe the cells a run leaves behind are decoded again with
@@ -11,9 +11,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include "core/profile.h"
 #include "core/shared/world_cache.h"
-#include "replay/realtime_settings.h"
+#include "gpu/realtime_settings.h"
 #include "tests/cornell_cache_view.h"
 #include "tests/test_support.h"
 
@@ -150,9 +152,8 @@ TEST(WorldCacheFidelity019, StochasticLodKeysSomeCellsAtTheNextSize) {
     EXPECT_TRUE(at_floor || at_next) << "cell " << i;
     next += at_next && !at_floor;
   }
-  std::cout << "cells at the floor LOD only: " << fixed_lod.checksum.size() << "; stochastic: "
-            << stochastic.checksum.size() << ", " << next << " at the next size\n";
-  EXPECT_GT(next, 0u);
+  EXPECT_GT(next, 0u) << "cells at the floor LOD only: " << fixed_lod.checksum.size() << "; stochastic: "
+                      << stochastic.checksum.size() << ", " << next << " at the next size";
 }
 
 // 0.19 keys the normal at half-unit steps: every cell's checksum is the
@@ -199,10 +200,9 @@ TEST(WorldCacheFidelity019, JitterStoresPointsUpToHalfACellPastTheSurfaceEdge) {
     if (jittered.normal[i].y > 0.99f && jittered.position[i].y < 0.1f) EXPECT_NEAR(jittered.position[i].y, 0.0f, 1e-3f);
     EXPECT_TRUE(keyed_at(jittered, i, floor_size(jittered, i), 1.0f));
   }
-  std::cout << "jittered cells past the box: " << past << " of " << jittered.position.size() << ", furthest "
-            << furthest << " m\n";
-  EXPECT_GT(past, 0u);
-  EXPECT_LE(furthest, 0.5f * jittered.settings.cell_size_base * 1.01f);  // LOD 0 in the box
+  EXPECT_GT(past, 0u) << "jittered cells past the box, of " << jittered.position.size();
+  EXPECT_LE(furthest, 0.5f * jittered.settings.cell_size_base * 1.01f)  // LOD 0 in the box
+      << past << " jittered cells past the box, of " << jittered.position.size();
 }
 
 // ---- End to end (giharness run, ReSTIR GI feeding the cache) ----
@@ -244,8 +244,7 @@ TEST(WorldCacheFidelity019, FirstBounceRuleQueriesBaseCellsForShortGiRays) {
   const auto on = run_cornell_gi(big + "--set world_cache.first_bounce_leak_rule=true", "leak_on");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   ASSERT_EQ(on.exit_code, 0) << on.output;
-  std::cout << "live cells, rule off: " << last_live_cells(off) << ", on: " << last_live_cells(on) << "\n";
-  EXPECT_GT(last_live_cells(on), 2 * last_live_cells(off));
+  EXPECT_GT(last_live_cells(on), 2 * last_live_cells(off)) << "live cells, rule on against off";
 }
 
 // 0.19's soft cap: over `cap` active cells, about `cap` are updated a frame
@@ -316,10 +315,8 @@ TEST(WorldCacheFidelity, ZeroChannelLightIsDroppedOnlyUnderDrop) {
   const auto kept = run_cornell_gi("--set world_cache.direct_light_zero_channel=keep", "red_keep", 6, red);
   ASSERT_EQ(dropped.exit_code, 0) << dropped.output;
   ASSERT_EQ(kept.exit_code, 0) << kept.output;
-  std::cout << "red light, cache mean radiance: drop " << mean_radiance(dropped) << ", keep " << mean_radiance(kept)
-            << "\n";
-  EXPECT_EQ(mean_radiance(dropped), 0.0);
-  EXPECT_GT(mean_radiance(kept), 0.01);
+  EXPECT_EQ(mean_radiance(dropped), 0.0) << "red light, cache mean radiance under drop";
+  EXPECT_GT(mean_radiance(kept), 0.01) << "red light, cache mean radiance under keep";
   const auto white_drop = run_cornell_gi("--set world_cache.direct_light_zero_channel=drop", "white_drop", 4);
   const auto white_keep = run_cornell_gi("--set world_cache.direct_light_zero_channel=keep", "white_keep", 4);
   EXPECT_EQ(white_drop.summary.at("world_cache_hashes"), white_keep.summary.at("world_cache_hashes"));
@@ -353,8 +350,6 @@ TEST(WorldCacheFidelity, UnnormalisedGiRaysReachTwiceTheCosineTimesTmax) {
   const auto normalised = run_cornell_gi(short_rays + "--set world_cache.gi_ray_direction=normalised", "reach_n", 6);
   ASSERT_EQ(unnormalised.exit_code, 0) << unnormalised.output;
   ASSERT_EQ(normalised.exit_code, 0) << normalised.output;
-  std::cout << "cache mean radiance at tmax 0.2 m: unnormalised " << cache_mean_radiance(unnormalised, 5)
-            << ", normalised " << cache_mean_radiance(normalised, 5) << "\n";
   EXPECT_GT(cache_mean_radiance(unnormalised, 5), 1.02 * cache_mean_radiance(normalised, 5));
   const std::string long_rays = "--set world_cache.gi_ray_tmax=100000 ";
   const auto far_u = run_cornell_gi(long_rays + "--set world_cache.gi_ray_direction=unnormalised", "far_u", 6);
@@ -378,13 +373,18 @@ TEST(WorldCacheFidelity, CacheReadsTheLightTilesOfItsFrameOrLastFrame) {
   const auto previous = run_cornell_gi("--set world_cache.light_tiles_frame=previous", "tiles_previous", 6, brighter);
   ASSERT_EQ(current.exit_code, 0) << current.output;
   ASSERT_EQ(previous.exit_code, 0) << previous.output;
-  std::cout << "cache mean radiance, frames 3 / 4 / 5: current " << cache_mean_radiance(current, 3) << " / "
-            << cache_mean_radiance(current, 4) << " / " << cache_mean_radiance(current, 5) << ", previous "
-            << cache_mean_radiance(previous, 3) << " / " << cache_mean_radiance(previous, 4) << " / "
-            << cache_mean_radiance(previous, 5) << "\n";
-  EXPECT_NEAR(cache_mean_radiance(previous, 3) / cache_mean_radiance(current, 3), 1.0, 0.25);
-  EXPECT_GT(cache_mean_radiance(current, 4), 2.0 * cache_mean_radiance(previous, 4));
-  EXPECT_GT(cache_mean_radiance(previous, 5), 2.0 * cache_mean_radiance(previous, 4));
+  const std::string means = fmt::format("cache mean radiance, frames 3 / 4 / 5: current {:.4f} / {:.4f} / {:.4f}, "
+                                        "previous {:.4f} / {:.4f} / {:.4f}",
+                                        cache_mean_radiance(current, 3), cache_mean_radiance(current, 4),
+                                        cache_mean_radiance(current, 5), cache_mean_radiance(previous, 3),
+                                        cache_mean_radiance(previous, 4), cache_mean_radiance(previous, 5));
+  // Before the change both read tiles of the same light: previous/current at
+  // frame 3 was 1.011 at this seed, 0.966 to 1.018 over seeds 3-7 (sd 0.023):
+  // within 3 sd of 1. A cache whose tiles of last frame bias its light by 10 %
+  // fails here (the change itself is 10x).
+  EXPECT_NEAR(cache_mean_radiance(previous, 3) / cache_mean_radiance(current, 3), 1.0, 0.07) << means;
+  EXPECT_GT(cache_mean_radiance(current, 4), 2.0 * cache_mean_radiance(previous, 4)) << means;
+  EXPECT_GT(cache_mean_radiance(previous, 5), 2.0 * cache_mean_radiance(previous, 4)) << means;
 
   const auto tiles = run_cornell_gi("--set world_cache.direct_light_candidates=light_tiles", "tiles", 10);
   const auto own = run_cornell_gi("--set world_cache.direct_light_candidates=own", "own", 10);

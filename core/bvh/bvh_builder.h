@@ -1,4 +1,4 @@
-// Binned-SAH BVH builder for the `bvh` tracing backend (DESIGN §4): a binary
+// Binned-SAH BVH builder for the `bvh` tracing backend (docs/design.md §4): a binary
 // SAH tree, collapsed to the 4-wide node layout of core/shared/bvh_types.h.
 // Deterministic: serial, stable partitions, ties broken by primitive index,
 // so the same boxes give the same bytes on every machine and thread count.

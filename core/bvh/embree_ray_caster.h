@@ -1,5 +1,5 @@
 // Embree 3 `rtcIntersect1` / `rtcOccluded1` over a flattened scene: the
-// yardstick the `bvh` backend is measured against (DESIGN §12: bvh ≥ 0.5×
+// yardstick the `bvh` backend is measured against (docs/design.md §12: bvh ≥ 0.5×
 // Embree rays/s) and the CPU oracle its CPU twin is tested against. World-space
 // triangles, robust (watertight) mode, high build quality — as the reference
 // path tracer builds its scene.

@@ -1,4 +1,4 @@
-// The `bvh` backend's two-level structure on the CPU (DESIGN §4): one
+// The `bvh` backend's two-level structure on the CPU (docs/design.md §4): one
 // binned-SAH BLAS per mesh over its object-space triangles, built once, and a
 // TLAS over the visible instances, rebuilt when a transform or the visible
 // set changes (never otherwise). gpu/bvh_buffers.* uploads what this builds;

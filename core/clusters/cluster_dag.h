@@ -1,4 +1,4 @@
-// A Nanite-style cluster DAG for one mesh (DESIGN §8), built the way Bevy's
+// A Nanite-style cluster DAG for one mesh (docs/design.md §8), built the way Bevy's
 // virtual geometry builds it (seeds/virtual-geometry-0.14..0.16):
 //
 //   level 0: meshlets of ≤ max_triangles triangles (meshopt_buildMeshlets);
@@ -14,7 +14,7 @@
 // each group's LOD sphere encloses its children's, so both grow monotonically
 // up the DAG — what a LOD cut relies on.
 //
-// Why the grouping is not held to UFactor 1 (DESIGN §8 says 1; README "Design
+// Why the grouping is not held to UFactor 1 (docs/design.md §8 says 1; README "Design
 // notes"): every group border is locked, so the next level only halves if most
 // of the last level's (dense, locked) borders end up inside the new groups.
 // Forcing exactly group_size clusters per group leaves METIS no room to cut

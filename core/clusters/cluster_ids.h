@@ -1,4 +1,4 @@
-// Packed visibility IDs (DESIGN §3 step 3, §8), shared by C++ and GLSL
+// Packed visibility IDs (docs/design.md §3 step 3, §8), shared by C++ and GLSL
 // (core/shared/host_device.h rules): `cluster_id << triangle_bits | triangle`,
 // 25/7 by default as in Bevy 0.15, configurable so a small scene can reach the
 // limit. The packing keeps only the low cluster_bits of the ID, exactly what a

@@ -1,4 +1,4 @@
-// A 2D scene for the radiance-cascades pipeline (issue 18): emitting and
+// A 2D scene for the radiance-cascades pipeline: emitting and
 // occluding shapes on a canvas of pixels, as a scenario's "scene": {"shapes"}
 // describes them, and what its events make of it at a frame.
 //
@@ -9,7 +9,7 @@
 //   {"name", "type": "polyline", "points": [[x, y], ...], "width": w}
 // Events (the Solari ones, read in 2D): light_on / light_off / light_intensity
 // / light_color on an emitting shape by name, and transform with a
-// translation [dx, dy, 0] of a shape; the same rules as replay/events.h
+// translation [dx, dy, 0] of a shape; the same rules as core/scene_events.h
 // (the canvas at frame f is a pure function of the initial one and f).
 #pragma once
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The radiance-cascades pipeline's reference (issue 18): a 2D path tracer
+// The radiance-cascades pipeline's reference: a 2D path tracer
 // on the CPU that computes what the lesson's output means, the radiance at
 // a pixel centre averaged over all directions (fluence / 2π), from rays
 // intersected exactly with the analytic shapes — no distance field, no

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/profile.h"
 
 namespace gi {
 
@@ -38,28 +37,17 @@ nlohmann::json RcSettings::to_json() const {
           {"merge", merge == shader::RC_MERGE_BILINEAR_FIX ? "bilinear_fix" : "lesson"}};
 }
 
-RcSettings rc_settings(const Profile& profile, std::uint32_t width, std::uint32_t height) {
-  RcSettings s;
+RcSettings rc_settings_for_canvas(RcSettings s, std::uint32_t width, std::uint32_t height) {
   s.width = width;
   s.height = height;
-  s.jfa = profile.text("rc.distance_field") == "jfa";
-  s.resolution_factor = std::uint32_t(std::clamp<long long>(profile.integer("rc.resolution_factor"), 0, 8));
-  s.interval0 = float(profile.number("rc.interval0"));
-  const auto max_cascades = std::uint32_t(std::clamp<long long>(profile.integer("rc.max_cascades"), 1, shader::RC_MAX_CASCADES));
-  const long long fixed = profile.integer("rc.cascade_count");
   s.cascades_for_diagonal =
-      fixed > 0 ? std::min(std::uint32_t(fixed), max_cascades)
-                : rc_cascades_for_diagonal(std::sqrt(float(width) * float(width) + float(height) * float(height)),
-                                           s.interval0, max_cascades);
+      s.cascade_count > 0 ? std::min(s.cascade_count, s.max_cascades)
+                          : rc_cascades_for_diagonal(std::sqrt(float(width) * float(width) + float(height) * float(height)),
+                                                     s.interval0, s.max_cascades);
   s.cascades = s.cascades_for_diagonal;
   // The widest probe must tile the canvas (the lesson's code tightens the count so).
   while (s.cascades > 1 && (width % s.probe(s.cascades - 1).width != 0 || height % s.probe(s.cascades - 1).width != 0))
     --s.cascades;
-  s.max_steps = std::uint32_t(std::clamp<long long>(profile.integer("rc.max_raymarch_steps"), 1, 4096));
-  s.hit_epsilon = float(profile.number("rc.hit_epsilon"));
-  s.mipmap_mode = profile.text("rc.mipmap_divisor") == "ray_count" ? shader::RC_MIPMAP_RAY_COUNT
-                                                                     : shader::RC_MIPMAP_PROBE_WIDTH_X2;
-  s.merge = profile.text("rc.merge") == "bilinear_fix" ? shader::RC_MERGE_BILINEAR_FIX : shader::RC_MERGE_LESSON;
   return s;
 }
 

@@ -1,5 +1,5 @@
 // Irradiance at surface points by the Embree path tracer: the reference the
-// world cache's bias is measured against (issue 4). E(p, n) = ∫ L_i cos θ dω,
+// world cache's bias is measured against. E(p, n) = ∫ L_i cos θ dω,
 // estimated with cosine-distributed directions, each radiance L_i from the
 // shared path integrator (core/shared/path_integrator.h) exactly as the
 // reference image's camera rays get theirs. Deterministic per seed at any

@@ -1,4 +1,4 @@
-// The Embree reference path tracer (DESIGN §5): the shared path_trace()
+// The Embree reference path tracer (docs/design.md §5): the shared path_trace()
 // (core/shared/path_integrator.h) with rays traced by Embree 3 instead of
 // GPU ray queries. Pixel-centre primary rays, deterministic per seed at any
 // thread count, two independent half-sample images for its own noise.

@@ -1,4 +1,4 @@
-// On-disk cache of Embree references (DESIGN §5): keyed by a hash of
+// On-disk cache of Embree references (docs/design.md §5): keyed by a hash of
 // everything that determines the image, stored as a multi-layer EXR (layers
 // mean, half_a, half_b) plus a JSON sidecar, both written then renamed.
 #pragma once

@@ -6,7 +6,11 @@
 # beside its includer, else under SOURCE_DIR). It goes into the Embree reference cache key
 # (reference_cache.h), so the key follows exactly the sources the reference
 # is compiled from: an edit of a shader-only header (the BVH traversal,
-# ReSTIR) re-renders no reference. The installed binary reads no source file.
+# ReSTIR) re-renders no reference. A file is hashed as the compiler reads it,
+# less its // comments and with each run of white space as one space, so an
+# edit of a comment or of the layout re-renders nothing either (these sources
+# have no /* */ comment and no "//" inside a string literal; a file that had
+# one would only re-render more often). The installed binary reads no source file.
 cmake_minimum_required(VERSION 3.25)
 string(REPLACE "|" ";" queue "${ROOTS}")
 set(seen "")
@@ -36,7 +40,11 @@ endwhile()
 list(SORT seen)
 set(all "")
 foreach(f IN LISTS seen)
-  file(SHA256 "${f}" h)
+  file(READ "${f}" code)
+  string(REGEX REPLACE "//[^\n]*" "" code "${code}")
+  string(REGEX REPLACE "[ \t\r\n]+" " " code "${code}")
+  string(STRIP "${code}" code)
+  string(SHA256 h "${code}")
   file(RELATIVE_PATH name "${SOURCE_DIR}" "${f}")
   string(APPEND all "${name} ${h}\n")
 endforeach()

@@ -1,4 +1,4 @@
-// Generated scenes for the world-cache checks (issue 4): small, deterministic,
+// Generated scenes for the world-cache checks: small, deterministic,
 // parameter-free, all Lambertian (the cache treats surfaces as diffuse).
 //   cache_closed_room : a closed 4 × 3 × 4 m room lit by one ceiling panel
 //                       ("light"); light bounces around and cannot leave, so a

@@ -1,4 +1,4 @@
-// A procedural cliff (DESIGN §7, §8): a closed rock slab whose front face is
+// A procedural cliff (docs/design.md §7, §8): a closed rock slab whose front face is
 // carved by fractal value noise and horizontal strata. Closed on purpose: with
 // meshoptimizer 0.18 only the topological border can be locked, and a closed
 // mesh has no border but the groups' own, so its cluster DAG can simplify down

@@ -1,4 +1,4 @@
-// Generated scenes for the realtime DI checks (issue 3): small, deterministic,
+// Generated scenes for the realtime DI checks: small, deterministic,
 // parameter-free.
 //   di_many_lights   : 512 small emissive quads (1024 triangles) of varied
 //                      colour over a floor with two boxes.

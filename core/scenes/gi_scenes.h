@@ -1,4 +1,4 @@
-// Hard scenes for ReSTIR GI and specular GI (DESIGN §7, issue 5), generated,
+// Hard scenes for ReSTIR GI and specular GI (docs/design.md §7), generated,
 // deterministic, small, parameter-free:
 //   gi_corners    : a closed room (so nearly every GI ray finds a surface)
 //                   with tight corners — a wedge of two walls 5° apart, a

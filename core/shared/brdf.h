@@ -1,4 +1,4 @@
-// The material model both renderers shade with (DESIGN §3, "Materials"):
+// The material model both renderers shade with (docs/design.md §3, "Materials"):
 // diffuse + GGX specular with Smith height-correlated visibility and Schlick
 // Fresnel, F0 from base colour, metallic and reflectance (Filament / Bevy
 // StandardMaterial conventions), roughness = perceptual². Which Bevy release's

@@ -1,4 +1,4 @@
-// The `bvh` tracing backend's GPU layout (DESIGN §4), shared by the CPU
+// The `bvh` tracing backend's GPU layout (docs/design.md §4), shared by the CPU
 // builder (core/bvh/), the CPU twin of the traversal (core/shared/bvh_traverse.h
 // run from C++) and the compute shaders (gpu/shaders/trace_bvh.glsl).
 //

@@ -1,4 +1,4 @@
-// Light tiles (DESIGN §3 step 4; Wyman & Panteleev, "Rearchitecting
+// Light tiles (docs/design.md §3 step 4; Wyman & Panteleev, "Rearchitecting
 // Spatiotemporal Resampling for Production", HPG 2021, §5): resolved light
 // samples packed into 24 bytes, shared by the GPU passes and the CPU tests
 // (host_device.h rules).

@@ -1,4 +1,4 @@
-// ReSTIR reservoirs and their merging (DESIGN §3 step 6), shared by the GPU DI
+// ReSTIR reservoirs and their merging (docs/design.md §3 step 6), shared by the GPU DI
 // passes and the CPU unit tests (host_device.h rules). The functions here see
 // only numbers — target-function values and random numbers — so a test can
 // drive them with a known distribution; the DI passes supply the values.
@@ -124,7 +124,7 @@ GI_FN MergeResult merge_di_reservoirs_weighted(DiReservoir c, DiReservoir o, Mer
   return r;
 }
 
-// Pairwise merge (DESIGN §3 step 6). balance = true: the balance heuristic
+// Pairwise merge (docs/design.md §3 step 6). balance = true: the balance heuristic
 // with confidence weights (Solari 0.18)
 //   mis_c = balance(c.M·p_c(x_c), o.M·p_o(x_c)),  mis_o = balance(o.M·p_o(x_o), c.M·p_c(x_o));
 // false: constant weights mis_c = c.M/(c.M+o.M), mis_o = o.M/(c.M+o.M) (0.17).

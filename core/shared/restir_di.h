@@ -1,4 +1,4 @@
-// Pure helpers of ReSTIR DI (DESIGN §3 step 6) shared by the GPU passes and the
+// Pure helpers of ReSTIR DI (docs/design.md §3 step 6) shared by the GPU passes and the
 // CPU tests (host_device.h rules). Scene-dependent parts live in
 // light_sampling.h (bridge-included).
 #ifndef GI_SHARED_RESTIR_DI_H

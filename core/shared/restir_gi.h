@@ -1,4 +1,4 @@
-// ReSTIR GI's maths (DESIGN §3 step 7), shared by the GPU passes
+// ReSTIR GI's maths (docs/design.md §3 step 7), shared by the GPU passes
 // (gpu/shaders/gi_*.comp) and the CPU unit tests (host_device.h rules): the
 // reservoir, the reconnection jacobian, permutation sampling, the pairwise
 // merge with jacobians in the balance heuristic, and the statistics the
@@ -42,7 +42,7 @@ GI_FN float gi_confidence(GiReservoir r) { return r.sample_position.w; }
 // luminance of the sample's radiance times the cosine at p. The caller
 // weighs the radiance with the surface's colour (Solari: base colour / π;
 // gi_common.glsl gi_target_colour), so the target carries no lobe shape and
-// the same reservoir serves diffuse shading and rough specular (DESIGN §3 step 8).
+// the same reservoir serves diffuse shading and rough specular (docs/design.md §3 step 8).
 GI_FN float gi_target(vec3 radiance, vec3 sample_position, vec3 p, vec3 n) {
   vec3 d = sample_position - p;
   float len2 = dot(d, d);
@@ -50,7 +50,7 @@ GI_FN float gi_target(vec3 radiance, vec3 sample_position, vec3 p, vec3 n) {
   return luminance(radiance) * max(dot(d * inversesqrt(len2), n), 0.0f);
 }
 
-// The reconnection jacobian (DESIGN §3 step 7): moving the sample's origin
+// The reconnection jacobian (docs/design.md §3 step 7): moving the sample's origin
 // from orig_pos to new_pos, with sample point s and its normal n_s,
 //   J = (saturate(dot(r/|r|, n_s)) · |q|²) / (saturate(dot(q/|q|, n_s)) · |r|²),
 //   r = new_pos − s, q = orig_pos − s.
@@ -73,7 +73,7 @@ GI_FN float gi_jacobian(vec3 new_pos, vec3 orig_pos, vec3 sample_pos, vec3 sampl
   return gi_finite(j) ? j : 0.0f;
 }
 
-// Permutation sampling for temporal reuse (DESIGN §3 step 7): a per-frame
+// Permutation sampling for temporal reuse (docs/design.md §3 step 7): a per-frame
 // random r permutes the reprojected pixel within aligned 4×4 blocks,
 //   offset = (r & 3, (r >> 2) & 3),  p = ((p + offset) ^ 3) − offset,
 // then clamps to the image. Decorrelates neighbouring pixels' histories.
@@ -99,7 +99,7 @@ struct GiMergeResult {
   bool selected_other;
 };
 
-// Pairwise merge with jacobians in the balance heuristic (DESIGN §3 step 7):
+// Pairwise merge with jacobians in the balance heuristic (docs/design.md §3 step 7):
 //   mis_c = balance(c.M·p_c(x_c), o.M·p_o(x_c)·J_oc),  mis_o = balance(o.M·p_o(x_o), c.M·p_c(x_o)·J_co)
 //   w_c = mis_c·p_c(x_c)·c.W,  w_o = mis_o·p_c(x_o)·o.W·J_co
 //   pick o with probability w_o/(w_c + w_o);  M = c.M + o.M;  W = (w_c + w_o)/p_c(x_sel).

@@ -1,4 +1,4 @@
-// Specular GI's maths (DESIGN §3 step 8), shared by gpu/shaders/specular_gi.comp
+// Specular GI's maths (docs/design.md §3 step 8), shared by gpu/shaders/specular_gi.comp
 // and tests/specular_test.cpp (host_device.h rules): GGX reflection sampling
 // with bounded VNDF (Eto & Tokuyoshi, "Bounded VNDF Sampling for Smith-GGX
 // Reflections", SIGGRAPH Asia 2023, listings 1 and 2) and its pdf, the mirror

@@ -3,7 +3,7 @@
 // compiled as GLSL by the `bvh` backend and as C++ by its CPU twin and tests.
 //
 // Why watertight: a plain Möller-Trumbore test in the compute BVH missed 2
-// grazing rays in 57 600 through shared edges (DESIGN §4). Woop's test shears
+// grazing rays in 57 600 through shared edges (docs/design.md §4). Woop's test shears
 // the triangle into ray space, so an edge shared by two triangles gets the
 // same (negated) edge function in both and no ray slips between them.
 //

@@ -1,4 +1,4 @@
-// The world cache's maths (DESIGN §3 step 5; seeds/solari-0.17-draft.md "World
+// The world cache's maths (docs/design.md §3 step 5; seeds/solari-0.17-draft.md "World
 // Cache", seeds/solari-0.18.md "World Cache Improvements"), shared by the GPU
 // passes (gpu/shaders/world_cache_*.comp), the checks and the unit tests
 // (host_device.h rules): hashing and checksums, LOD cell size, probing, the
@@ -118,7 +118,7 @@ GI_FN uint world_cache_query_life(bool pixel_rooted, uint querier_life, uint lif
 // Decay: one frame less; a cell reaching 0 is cleared (by the caller).
 GI_FN uint world_cache_decayed_life(uint life) { return life > 0u ? life - 1u : 0u; }
 
-// The cache_lifetime invariant (DESIGN §6) for a live cell at `frame` whose
+// The cache_lifetime invariant (docs/design.md §6) for a live cell at `frame` whose
 // last pixel-rooted refresh, propagated with max along cache-to-cache
 // queries, was `root_frame`.
 GI_FN uint world_cache_age(uint frame, uint root_frame) { return frame >= root_frame ? frame - root_frame : 0u; }
@@ -205,7 +205,7 @@ struct WorldCacheStats {
 
 GI_CONST uint WORLD_CACHE_SCAN_BLOCK = 1024u;  // cells per block of the two-level compaction
 GI_CONST uint WORLD_CACHE_SCAN_THREADS = 256u; // 4 cells per thread
-GI_CONST uint WORLD_CACHE_CELL_GROUP = 64u;    // per-cell and per-record passes (DESIGN §3: 64 for ray passes)
+GI_CONST uint WORLD_CACHE_CELL_GROUP = 64u;    // per-cell and per-record passes (docs/design.md §3: 64 for ray passes)
 // The full-table sweeps (decay, statistics) give each invocation this many
 // cells, GROUP apart (adjacent invocations read adjacent cells): fewer
 // invocations for lavapipe to start (each cell's work is a few loads), the

@@ -13,7 +13,7 @@ namespace gi::gpu {
 
 using namespace gi::shader;
 
-static_assert(sizeof(PackedLightSample) == 24, "light-tile samples are 24 bytes (DESIGN §3 step 4)");
+static_assert(sizeof(PackedLightSample) == 24, "light-tile samples are 24 bytes (docs/design.md §3 step 4)");
 static_assert(sizeof(LightSample) == 16);
 static_assert(sizeof(DiReservoir) == 32);
 static_assert(sizeof(DiSurface) == 48);

@@ -1,4 +1,4 @@
-// The realtime DI signal (DESIGN §3 steps 4 and 6) as the Renderer drives it:
+// The realtime DI signal (docs/design.md §3 steps 4 and 6) as the Renderer drives it:
 // owns the light tiles, the reservoirs, last frame's surfaces, the light-id
 // translation and the outputs of `chains` independent DI chains (each its own
 // light tiles, reservoirs and random streams, so that two chains give an

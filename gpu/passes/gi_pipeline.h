@@ -1,4 +1,4 @@
-// ReSTIR GI and specular GI as the Renderer drives them (DESIGN §3 steps 7-8):
+// ReSTIR GI and specular GI as the Renderer drives them (docs/design.md §3 steps 7-8):
 // owns the GI reservoirs, last frame's surfaces, the outputs and sums of
 // `chains` independent chains (as DiPipeline: two chains are two honest
 // halves for the reference check), and the per-frame statistics buffer the

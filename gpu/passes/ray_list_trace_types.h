@@ -8,7 +8,7 @@ GI_SHADER_BEGIN
 
 GI_CONST uint BINDING_TEST_RAYS = 90u;     // TestRay[]
 GI_CONST uint BINDING_TEST_RESULTS = 91u;  // TestResult[]
-GI_CONST uint TEST_RAY_WORKGROUP = 64u;    // 64-128 traced fastest on lavapipe (DESIGN §4)
+GI_CONST uint TEST_RAY_WORKGROUP = 64u;    // 64-128 traced fastest on lavapipe (docs/design.md §4)
 
 // What the pass asks of each ray.
 GI_CONST uint TRACE_MODE_CLOSEST = 1u;     // trace_closest

@@ -1,4 +1,4 @@
-// Specular GI (DESIGN §3 step 8): gpu/shaders/specular_gi.comp, after ReSTIR
+// Specular GI (docs/design.md §3 step 8): gpu/shaders/specular_gi.comp, after ReSTIR
 // GI's spatial pass (rough pixels reuse its final reservoir).
 #pragma once
 #include "gpu/passes/restir_gi.h"

@@ -8,6 +8,8 @@
 
 #include "core/errors.h"
 #include "gpu/device.h"
+#include "gpu/profile_keys.h"
+#include "gpu/realtime_settings.h"
 #include "gpu/shaders/bindings.h"
 #include "gpu/shaders/di_bindings.h"
 #include "gpu/shaders/world_cache_bindings.h"
@@ -56,15 +58,21 @@ void indirect_barrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
+// The profile key behind a field (gpu/profile_keys.h): the errors name it.
+template <class T>
+const std::string& key_of(T WorldCacheSettings::*member) {
+  return profile_key_of(&RealtimeSettings::cache, member);
+}
+
 WorldCacheSettings checked(const Device& device, const WorldCacheSettings& s) {
   if (!std::has_single_bit(s.cells) || s.cells < WORLD_CACHE_SCAN_BLOCK)
-    throw InputError("world_cache.cells", "",
+    throw InputError(key_of(&WorldCacheSettings::cells), "",
                      fmt::format("a power of two of at least {}, got {}", WORLD_CACHE_SCAN_BLOCK, s.cells));
-  if (s.lifetime == 0) throw InputError("world_cache.lifetime", "", "a lifetime of at least 1 frame");
+  if (s.lifetime == 0) throw InputError(key_of(&WorldCacheSettings::lifetime), "", "a lifetime of at least 1 frame");
   const std::uint32_t widest =
       std::min(device.limits().maxComputeWorkGroupSize[0], device.limits().maxComputeWorkGroupInvocations);
   if (s.update_workgroup_size == 0 || s.update_workgroup_size > widest)
-    throw InputError("world_cache.workgroup_size", "",
+    throw InputError(key_of(&WorldCacheSettings::update_workgroup_size), "",
                      fmt::format("a workgroup width from 1 to {} (this device's limit), got {}", widest,
                                  s.update_workgroup_size));
   return s;

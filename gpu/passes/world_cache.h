@@ -1,4 +1,4 @@
-// The world cache (DESIGN §3 step 5) as the Renderer drives it: owns the
+// The world cache (docs/design.md §3 step 5) as the Renderer drives it: owns the
 // spatial hash's buffers and its passes, one GLSL file each under
 // gpu/shaders/world_cache_*.comp:
 //   decay → compact (count, scan, write: the active list and an indirect
@@ -28,74 +28,80 @@
 
 namespace gi::gpu {
 
-// Every constant from the profile (world_cache.*, light_tiles.* for the radiance encoding).
+// Every constant from the profile (world_cache.*, light_tiles.* for the radiance
+// encoding and the tiles, brdf.* and specular.* for the secondary hits), filled
+// by the profile table (gpu/profile_keys.cpp): a profile-filled field has no
+// value of its own here (value-initialised; every value is the profile's). The
+// run's own fields (view, stats, root_frame, external_queries_per_pixel) keep theirs.
 struct WorldCacheSettings {
-  std::uint32_t cells = 1u << 20;       // power of two, ≥ WORLD_CACHE_SCAN_BLOCK
-  std::uint32_t lifetime = 30;
-  std::uint32_t max_probe_steps = 3;
-  bool linear_probing = true;           // false: re-hash (0.17)
-  float cell_size_base = 0.25f;
-  float lod_scale = 8.0f;
+  std::uint32_t cells{};       // power of two, ≥ WORLD_CACHE_SCAN_BLOCK
+  std::uint32_t lifetime{};
+  std::uint32_t max_probe_steps{};
+  bool linear_probing{};           // false: re-hash (0.17)
+  float cell_size_base{};
+  float lod_scale{};
   // Solari 0.19's query (v0.19.0:realtime/world_cache_query.wgsl:43-112) and
   // update: the LOD drawn between two sizes, the query point jittered in the
   // tangent plane, the normal keyed at half-unit steps, ReSTIR GI's short
   // first-bounce rays querying a base cell, a soft cap on the cells updated
-  // a frame (0: none). Defaults are 0.18's.
-  bool stochastic_lod = false;
-  bool jitter = false;
+  // a frame (0: none).
+  bool stochastic_lod{};
+  bool jitter{};
   // world_cache.jitter_lod "redrawn": the cell size is drawn again at the
   // jittered point (v0.18.0 world_cache_query.wgsl:58, v0.19.0 :60); "kept"
   // quantizes the moved point with the size of the unmoved one (#21649's
   // jitter before #21953 fixed it: cells keyed at an LOD their point does not have).
-  bool jitter_lod_redrawn = true;
-  float normal_key_scale = 1.0f;
-  bool first_bounce_leak_rule = false;
-  std::uint32_t update_soft_cap = 0;
+  bool jitter_lod_redrawn{};
+  float normal_key_scale{};
+  bool first_bounce_leak_rule{};
+  std::uint32_t update_soft_cap{};
   // world_cache.workgroup_size: the width of the per-active-cell passes'
   // workgroups (sample_di, sample_gi, blend; 1024 in 0.17, 64 since). Cells
   // are independent, so it changes speed, not results.
-  std::uint32_t update_workgroup_size = 64;
-  bool cache_to_cache_full = false;     // true: 0.17's lifetime rule
-  bool adaptive_blend = true;           // false: 0.17's fixed blend
-  float max_samples = 32.0f;
-  float adaptive_exponent = 0.125f;
-  float delta_blend = 0.125f;
-  std::uint32_t di_samples = 32;
-  float gi_ray_tmax = 50.0f;
+  std::uint32_t update_workgroup_size{};
+  bool cache_to_cache_full{};     // true: 0.17's lifetime rule
+  bool adaptive_blend{};           // false: 0.17's fixed blend
+  float max_samples{};
+  float adaptive_exponent{};
+  float delta_blend{};
+  std::uint32_t di_samples{};
+  float gi_ray_tmax{};
   // world_cache.gi_ray_direction "unnormalised" (0.17, 0.18): the GI ray's
   // reach is gi_ray_tmax times 2 cos of its angle to the cell's normal.
-  bool gi_reach_cosine = false;
-  float light_exposure = 1.0f;
-  bool log2_radiance = true;
+  bool gi_reach_cosine{};
+  float light_exposure{};
+  bool log2_radiance{};
   // brdf.secondary_hits "full": a cell's GI ray that hits a glossy surface
   // (alpha ≤ glossy_roughness) follows it along its BRDF for up to
   // glossy_bounces vertices (specular.*) before querying the cache; false:
   // Solari's diffuse-only cache (hit_radiance.glsl).
-  bool secondary_hits_full = false;
-  bool secondary_albedo_base = true;  // brdf.secondary_albedo (GiSettings)
+  bool secondary_hits_full{};
+  bool secondary_albedo_base{};  // brdf.secondary_albedo (GiSettings)
   // world_cache.direct_light_zero_channel "drop": a cell's direct light is
   // lost when any channel of the chosen sample's radiance is 0 (Bevy 0.17-0.19:
   // a pure red light never lights the cache).
-  bool drop_zero_channel_light = false;
+  bool drop_zero_channel_light{};
   // world_cache.direct_light_cosine "missing" (Bevy #22468 to #22570,
   // unreleased): the chosen light sample's radiance is kept without the
   // cell's cosine, which the RIS target has: direct light divided by n.l.
-  bool direct_light_cosine_missing = false;
+  bool direct_light_cosine_missing{};
   // light_tiles.sun_sampling "center" (DiSettings::sun_center), for the
   // candidates the cache draws itself.
-  bool sun_center = false;
+  bool sun_center{};
   // world_cache.direct_light_candidates "light_tiles" (Solari): the direct-light
   // candidates come from one light tile per workgroup (DI's tiles, chain 0:
   // tile_count × tile_samples); false: drawn afresh by the cache itself.
-  bool tile_candidates = false;
-  std::uint32_t tile_count = 128;
-  std::uint32_t tile_samples = 1024;
+  bool tile_candidates{};
+  // light_tiles.tile_count and .samples_per_tile; the Renderer replaces them
+  // with DI's tiles as sized to the scene when tile_candidates.
+  std::uint32_t tile_count{};
+  std::uint32_t tile_samples{};
   // world_cache.light_tiles_frame "previous" (0.17's pass order, cache before
   // tiles): the update runs before DI rebuilds the tiles, so it reads last
   // frame's (Renderer::render_frame). Only with tile_candidates.
-  bool tiles_previous_frame = false;
-  float glossy_roughness = 0.4f;
-  std::uint32_t glossy_bounces = 3;
+  bool tiles_previous_frame{};
+  float glossy_roughness{};
+  std::uint32_t glossy_bounces{};
   // The cache view (world_cache_query_pixels): a pixel-rooted query at every
   // primary surface each frame. Bevy makes that query only under the debug
   // define VISUALIZE_WORLD_CACHE (v0.17.0:realtime/restir_gi.wgsl:85,

@@ -1,4 +1,4 @@
-// The radiance-cascades passes (issue 18), one driver per GLSL file and
+// The radiance-cascades passes, one driver per GLSL file and
 // named after it, as the seed lesson names them: the scene raster (its
 // tex_main), the analytic distance field or jump flooding's two passes, the
 // cascades (first and merge), the mipmap and the apply. Each driver owns its

@@ -1,4 +1,4 @@
-// The radiance-cascades pipeline (issue 18) on one device: its buffers and
+// The radiance-cascades pipeline on one device: its buffers and
 // passes (gpu/rc/rc_passes.h) in the lesson's order — scene raster, distance
 // field (analytic, or jump flooding), cascades from the farthest down with
 // merging, mipmap, apply — recorded into one submission per frame.

@@ -50,7 +50,7 @@ GI_CONST uint BINDING_REFERENCE_A = 11u;      // vec4[] per pixel: rgb sum, w sa
 GI_CONST uint BINDING_REFERENCE_B = 12u;      // vec4[] per pixel: the same for odd sample indices
 GI_CONST uint BINDING_REFERENCE_NONFINITE = 13u;  // uint[1]: samples dropped for inf/NaN
 
-// Ray passes run 8x8 = 64 invocations per workgroup (fastest on lavapipe, DESIGN §4).
+// Ray passes run 8x8 = 64 invocations per workgroup (fastest on lavapipe, docs/design.md §4).
 GI_CONST uint RAY_WORKGROUP_X = 8u;
 GI_CONST uint RAY_WORKGROUP_Y = 8u;
 

@@ -1,4 +1,4 @@
-// ReSTIR DI, dispatch 1 of 2 (DESIGN §3 step 6): initial RIS over
+// ReSTIR DI, dispatch 1 of 2 (docs/design.md §3 step 6): initial RIS over
 // DI_INITIAL_SAMPLES candidates of one light tile (DI_TILE_PER_WORKGROUP 1:
 // the 8×8 workgroup's frame-constant tile, Solari; 0: a random tile per pixel
 // and frame) (target: luminance of the unshadowed contribution × colour/π,

@@ -1,4 +1,4 @@
-// ReSTIR DI, dispatch 2 of 2 (DESIGN §3 step 6): spatial reuse of one
+// ReSTIR DI, dispatch 2 of 2 (docs/design.md §3 step 6): spatial reuse of one
 // neighbour's reservoir (a random pixel in a DI_SPATIAL_RADIUS disk, up to
 // DI_SPATIAL_TRIES tries for one that passes pixel_dissimilar), merged with
 // this pixel's; the result is stored for next frame; then shading.

@@ -1,5 +1,5 @@
 // The frame's output made on the GPU, and what the frame record measures of
-// it, reduced there (issue 16): the output image (realtime: chain A's
+// it, reduced there: the output image (realtime: chain A's
 // (DI + GI) + specular, in the order the CPU added them; reference: the two
 // halves' mean), per signal the luminance summed over finite pixels in
 // double and in a fixed tree order, the finite pixels and the output's

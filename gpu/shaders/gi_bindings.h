@@ -1,5 +1,5 @@
 // Descriptor bindings and push constants of ReSTIR GI and specular GI
-// (DESIGN §3 steps 7-8), shared by C++ and GLSL (host_device.h rules).
+// (docs/design.md §3 steps 7-8), shared by C++ and GLSL (host_device.h rules).
 // Numbers 70-79 are reserved here; the G-buffer keeps its number from bindings.h.
 #ifndef GI_GPU_SHADERS_GI_BINDINGS_H
 #define GI_GPU_SHADERS_GI_BINDINGS_H

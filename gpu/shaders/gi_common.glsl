@@ -1,4 +1,4 @@
-// What the ReSTIR GI and specular GI passes share (DESIGN §3 steps 7-8):
+// What the ReSTIR GI and specular GI passes share (docs/design.md §3 steps 7-8):
 // bindings, the pixel's surface from the G-buffer, the cache query of a GI
 // sample's hit (its radiance: hit_radiance.glsl), and the merge with its statistics. Include after
 // scene_bindings.glsl (with the path integrator).

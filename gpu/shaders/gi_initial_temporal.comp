@@ -1,4 +1,4 @@
-// ReSTIR GI, dispatch 1 of 2 (DESIGN §3 step 7): the initial sample, one
+// ReSTIR GI, dispatch 1 of 2 (docs/design.md §3 step 7): the initial sample, one
 // uniform-hemisphere ray; a miss or an emissive hit gives an empty reservoir
 // (confidence 0 under GI_EMPTY_NO_CONFIDENCE, as Solari: v0.18.0
 // realtime/restir_gi.wgsl:97-105; else M = 1), else radiance =
@@ -132,7 +132,7 @@ void main() {
 #endif
 
   // Temporal reuse (GI_NO_TEMPORAL_REUSE: none; restir_gi.temporal_reuse
-  // false, a harness-only switch for the GI noise breakdown of issue 17).
+  // false, a harness-only switch for the GI noise breakdown of docs/speed.md).
 #ifdef GI_NO_TEMPORAL_REUSE
 #define GI_HISTORY_VALID 0u
 #else

@@ -1,4 +1,4 @@
-// ReSTIR GI, dispatch 2 of 2 (DESIGN §3 step 7): spatial reuse of one
+// ReSTIR GI, dispatch 2 of 2 (docs/design.md §3 step 7): spatial reuse of one
 // neighbour (a random pixel in a GI_SPATIAL_RADIUS disk, up to GI_SPATIAL_TRIES
 // tries for a similar surface), merged with jacobians. Visibility:
 // - GI_VISIBILITY_FINAL (Solari 0.18, v0.18.0 realtime/restir_gi.wgsl:66-82):

@@ -1,4 +1,4 @@
-// Light tiles (DESIGN §3 step 4): LIGHT_TILE_COUNT tiles × LIGHT_TILE_SAMPLES
+// Light tiles (docs/design.md §3 step 4): LIGHT_TILE_COUNT tiles × LIGHT_TILE_SAMPLES
 // light samples per DI chain, drawn uniformly (light, triangle, point; no
 // scene heuristic), resolved and packed into 24 bytes (core/shared/light_tiles.h).
 // One invocation per sample; y indexes the chain (independent random streams).

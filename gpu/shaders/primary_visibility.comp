@@ -1,7 +1,7 @@
 // Primary visibility: one camera ray per pixel through the pixel centre (no
-// AA jitter, DESIGN §3), closest hit written to the visibility buffer and its
+// AA jitter, docs/design.md §3), closest hit written to the visibility buffer and its
 // t to depth. Each pixel is a uvec2:
-//   x  the packed ID `cluster_id << triangle_bits | triangle` (DESIGN §8,
+//   x  the packed ID `cluster_id << triangle_bits | triangle` (docs/design.md §8,
 //      core/clusters/cluster_ids.h): the hit primitive's LOD-0 cluster and its
 //      place in it, offset by the instance's first ID. Only the low
 //      cluster_bits survive, as in Bevy: past the limit the ID aliases.

@@ -1,5 +1,5 @@
-// Bindings and push constants of the radiance-cascades passes (issue 18;
-// gpu/rc/, gpu/shaders/rc_*.comp, jfa_*.comp). Every "texture" is a storage
+// Bindings and push constants of the radiance-cascades passes
+// (gpu/rc/, gpu/shaders/rc_*.comp, jfa_*.comp). Every "texture" is a storage
 // buffer of canvas width × height texels, row-major (the cascades are at the
 // canvas's resolution: the lesson's gi_scale is 1).
 #ifndef GI_GPU_SHADERS_RC_BINDINGS_H

@@ -7,7 +7,7 @@
 // Define SCENE_BINDINGS_NO_INTEGRATOR before including it to leave out
 // path_integrator.h (passes that trace no paths compile faster).
 //
-// The tracing backend is chosen at compile time (DESIGN §4): the ShaderCompiler
+// The tracing backend is chosen at compile time (docs/design.md §4): the ShaderCompiler
 // adds TRACE_BACKEND_BVH for the compute BVH (trace_bvh.glsl), else ray
 // queries are used (trace_rayquery.glsl). Passes never know which one runs.
 #ifndef TRACE_BACKEND_BVH

@@ -1,4 +1,4 @@
-// Specular GI (DESIGN §3 step 8; Bevy v0.18.0 realtime/specular_gi.wgsl): the
+// Specular GI (docs/design.md §3 step 8; Bevy v0.18.0 realtime/specular_gi.wgsl): the
 // specular lobe's indirect light at each pixel.
 // - alpha > SPECULAR_REUSE_ROUGHNESS: reuse this frame's final GI reservoir
 //   (its direction and radiance · W) with the specular BRDF.

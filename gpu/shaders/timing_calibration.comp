@@ -1,5 +1,5 @@
 // A fixed amount of work whose time says how fast the device is right now
-// (issue 20): on lavapipe the "GPU" is this machine's CPU, shared with
+//: on lavapipe the "GPU" is this machine's CPU, shared with
 // whatever else runs, so a pass's milliseconds mean little alone. Each frame
 // dispatches this kernel last, timed on its own; the nightly compares pass
 // times as multiples of it (reports/timing_verdict.h), so a baseline taken on

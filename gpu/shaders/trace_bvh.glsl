@@ -1,4 +1,4 @@
-// The `bvh` backend of trace_closest/trace_unoccluded (DESIGN §4): the
+// The `bvh` backend of trace_closest/trace_unoccluded (docs/design.md §4): the
 // CPU-built two-level BVH (core/bvh/scene_bvh.h, uploaded by
 // gpu/bvh_buffers.*) traversed by core/shared/bvh_traverse.h with Woop's
 // watertight triangle test. Plain Vulkan 1.2 compute: no GL_EXT_ray_query, so

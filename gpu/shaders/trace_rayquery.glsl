@@ -1,4 +1,4 @@
-// The `rayquery` backend of trace_closest/trace_unoccluded (DESIGN §4):
+// The `rayquery` backend of trace_closest/trace_unoccluded (docs/design.md §4):
 // GL_EXT_ray_query over the scene TLAS (gpu/acceleration_structures.*).
 // Included by scene_bindings.glsl only; passes never include it themselves.
 

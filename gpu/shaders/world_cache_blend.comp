@@ -1,4 +1,4 @@
-// World cache blend (DESIGN §3 step 5; Solari's blend_new_samples): per
+// World cache blend (docs/design.md §3 step 5; Solari's blend_new_samples): per
 // active cell, this frame's sample into the running irradiance: the fixed
 // blend of 0.17 or the adaptive blend of 0.18 (core/shared/world_cache.h). A
 // separate dispatch from the sampling, which reads last frame's radiance.

@@ -1,4 +1,4 @@
-// Commits the insertions a query pass asked for (DESIGN §3 step 5, made
+// Commits the insertions a query pass asked for (docs/design.md §3 step 5, made
 // deterministic): per slot, the record of the lowest query id — the one still
 // holding the claim — writes checksum, life, root frame and geometry. Losers
 // try again next frame, when they find the slot taken and probe on.

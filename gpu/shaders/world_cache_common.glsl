@@ -1,5 +1,5 @@
 // What every world-cache pass shares: the cache's buffers and the reusable
-// query (DESIGN §3 step 5); also included by the GI passes that query the
+// query (docs/design.md §3 step 5); also included by the GI passes that query the
 // cache (GI_HIT_RADIANCE 2), with the same defines. Include after #version (and after
 // scene_bindings.glsl in passes that trace). Settings come as defines
 // (gpu/passes/world_cache.cpp, WorldCacheSettings::defines):

@@ -1,4 +1,4 @@
-// World cache compaction, level 1 of 2 (DESIGN §3 step 5): live cells
+// World cache compaction, level 1 of 2 (docs/design.md §3 step 5): live cells
 // (life != 0) per block of WORLD_CACHE_SCAN_BLOCK cells.
 #version 460
 #include "gpu/shaders/world_cache_common.glsl"

@@ -1,4 +1,4 @@
-// World cache compaction, level 2 (DESIGN §3 step 5): one workgroup turns the
+// World cache compaction, level 2 (docs/design.md §3 step 5): one workgroup turns the
 // block counts into exclusive offsets, writes the active count and the
 // indirect dispatch of the per-active-cell passes.
 #version 460

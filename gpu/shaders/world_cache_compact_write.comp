@@ -1,4 +1,4 @@
-// World cache compaction, final step (DESIGN §3 step 5): every live cell's
+// World cache compaction, final step (docs/design.md §3 step 5): every live cell's
 // index at its block offset plus its rank within the block, so the active
 // list is in ascending cell order (deterministic).
 #version 460

@@ -1,4 +1,4 @@
-// World cache decay (DESIGN §3 step 5; Solari's decay_world_cache): every
+// World cache decay (docs/design.md §3 step 5; Solari's decay_world_cache): every
 // cell loses one frame of life; a cell reaching 0 is cleared (checksum,
 // radiance, luminance delta, root frame). Also starts the frame: no claims,
 // no pending insertions, statistics zeroed.

@@ -1,4 +1,4 @@
-// The reusable world-cache query (DESIGN §3 step 5), for any pass that looks
+// The reusable world-cache query (docs/design.md §3 step 5), for any pass that looks
 // the cache up: the cache view now, ReSTIR GI and specular GI later
 // (pixel-rooted), the cache's own GI samples (cache-to-cache). Include after
 // scene_bindings.glsl and world_cache_common.glsl.

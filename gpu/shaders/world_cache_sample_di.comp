@@ -1,4 +1,4 @@
-// World cache update, direct light (DESIGN §3 step 5; Solari's
+// World cache update, direct light (docs/design.md §3 step 5; Solari's
 // sample_irradiance, 1st ray): per active cell, RIS over WORLD_CACHE_DI_SAMPLES
 // light candidates (target: luminance of the unshadowed irradiance), one
 // shadow ray on the winner. WORLD_CACHE_TILE_CANDIDATES 1 (Solari): the

@@ -1,4 +1,4 @@
-// World cache update, indirect light (DESIGN §3 step 5; Solari's
+// World cache update, indirect light (docs/design.md §3 step 5; Solari's
 // sample_irradiance, 2nd ray): per active cell a cosine-distributed ray of at
 // most WORLD_CACHE_GI_TMAX; at a hit, the hit's albedo times the
 // cache there (a cache-to-cache query: life by the profile's rule, root frame

@@ -1,4 +1,4 @@
-// End-of-frame statistics for the checks (DESIGN §6; integer atomics, so the
+// End-of-frame statistics for the checks (docs/design.md §6; integer atomics, so the
 // figures are the same at any thread count): live and sampled cells, the
 // fixed-point radiance sum, the cells this frame's update blended, and — with root-frame instrumentation — cells
 // older than lifetime + 1 frames since their last pixel-rooted refresh.

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes textured_room.gltf: a small closed room whose every texture kind
-changes what a renderer must compute (issue 19's acceptance scene).
+changes what a renderer must compute (acceptance scene).
 
  - floor: a checker base colour (sRGB), tiled 3x by KHR_texture_transform;
  - back wall: a normal map of deep horizontal grooves, lit at a grazing angle

@@ -1,4 +1,4 @@
-// Importer speed on a scene of real size (issue 19): glTF import (JSON, schema
+// Importer speed on a scene of real size: glTF import (JSON, schema
 // check, accessors, image decoding, MikkTSpace tangents), flattening for the
 // GPU, the Embree BVH the reference builds and the `bvh` backend's BVH, each
 // a Google Benchmark.
