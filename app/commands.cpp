@@ -197,6 +197,7 @@ void Commands::add_to(CLI::App& app) {
   devices_ = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
 
   bench_ = add_bench_subcommand(app, bench_options_);  // app/bench.cpp
+  inspect_ = add_inspect_subcommand(app, inspect_options_);  // app/inspect_command.cpp
 
   clusters_ = app.add_subcommand("clusters", "build the cluster DAG of a mesh or a scenario's meshes; per-level table");
   clusters_->add_option("input", clusters_options_.input,
@@ -226,6 +227,7 @@ int Commands::execute() {
   if (sweep_->parsed()) return run_sweep(sweep_options_);
   if (clusters_->parsed()) return run_clusters_command(clusters_options_);
   if (bench_->parsed()) return run_bench(bench_options_);
+  if (inspect_->parsed()) return run_inspect(inspect_options_);
   return 2;
 }
 

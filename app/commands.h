@@ -11,6 +11,7 @@
 
 #include "reports/baseline_store.h"
 #include "app/bench.h"
+#include "app/inspect_command.h"
 #include "replay/run_scenario.h"
 
 namespace gi {
@@ -172,6 +173,7 @@ class Commands {
   CLI::App* sweep_ = nullptr;
   CLI::App* clusters_ = nullptr;
   CLI::App* bench_ = nullptr;
+  CLI::App* inspect_ = nullptr;
   CLI::App* replay_ = nullptr;
   CLI::App* schema_ = nullptr;
   CLI::App* fidelity_ = nullptr;
@@ -191,6 +193,7 @@ class Commands {
   SweepOptions sweep_options_;
   ClustersCommandOptions clusters_options_;
   BenchOptions bench_options_;
+  InspectOptions inspect_options_;
 };
 
 }  // namespace gi

@@ -162,10 +162,27 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
                                                                              : nlohmann::json(nullptr)}});
     // Where to start debugging: `giharness replay <out>/<capture>` (paths relative to the suite's out).
     row["failure_captures"] = nlohmann::json::array();
-    for (const nlohmann::json& f : r.summary.value("failure_captures", nlohmann::json::array()))
-      row["failure_captures"].push_back(
-          {{"check", f["check"]}, {"frame", f["frame"]},
-           {"capture", (rel / f["capture"].get<std::string>()).string()}});
+    for (const nlohmann::json& f : r.summary.value("failure_captures", nlohmann::json::array())) {
+      nlohmann::json entry = {{"check", f["check"]}, {"frame", f["frame"]},
+                              {"capture", (rel / f["capture"].get<std::string>()).string()}};
+      // The failing capture's inspector page (app/inspect_command.h), which the
+      // report links; a page that cannot be made costs the night nothing.
+      const std::filesystem::path capture = ro.out_dir / f["capture"].get<std::string>();
+      try {
+        // The check's region outlined on the page where it judged one.
+        InspectExtras extras;
+        if (f.contains("region")) entry["region"] = extras.region = f["region"];
+        if (f.contains("region_mask") && f["region_mask"].is_object()) {
+          extras.region_mask_file = ro.out_dir / f["region_mask"].value("file", std::string());
+          extras.region_mask_layer = f["region_mask"].value("layer", std::string());
+        }
+        write_inspect_page(capture, extras, capture / "inspect.html");
+        entry["inspect"] = (rel / f["capture"].get<std::string>() / "inspect.html").string();
+      } catch (const std::exception& e) {
+        spdlog::warn("inspect {}: {}", capture.string(), e.what());
+      }
+      row["failure_captures"].push_back(entry);
+    }
   } catch (const InputError& e) {
     code = 2;
     row["error"] = e.what();

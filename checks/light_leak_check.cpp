@@ -89,6 +89,7 @@ struct LeakFrame {
   double energy_ratio = 0.0, sigma = 0.0, limit = 0.0, whole_image_ratio = 0.0;
   bool leaks = false;
   std::string evidence;
+  nlohmann::json region;  // the shadowed region's bounding box (CheckResult::region)
 };
 
 class LightLeakCheck final : public Check, ReferenceComparisons {
@@ -125,6 +126,7 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
     l.sigma = c.energy_ratio_sigma;
     l.limit = 1.0 + leak_.max_excess + Comparison::noise_margin(c.energy_dof) * c.energy_ratio_sigma;
     l.whole_image_ratio = whole.energy_ratio;
+    l.region = mask_bounds(region, ref.mean.width);
     l.leaks = pixels > 0 && c.energy_ratio > l.limit;
     const Image mean = chain_average(means);
     record["light_leak"] = {{"shadowed_pixels", pixels}, {"energy_ratio", json_figure(c.energy_ratio)}};
@@ -167,6 +169,12 @@ class LightLeakCheck final : public Check, ReferenceComparisons {
       return r;
     }
     r.figures["max_shadowed_energy_ratio"] = json_figure(worst->energy_ratio);
+    // The region the verdict is about: the first leaking frame's, else the worst's.
+    const LeakFrame* shown = worst;
+    for (const LeakFrame& l : frames_)
+      if (r.first_failing_frame && l.frame == *r.first_failing_frame) shown = &l;
+    r.region = shown->region;
+    r.region_mask = {{"file", shown->evidence}, {"layer", "shadowed_region"}};
     r.verdict = r.first_failing_frame ? Verdict::fail : Verdict::pass;
     r.message = fmt::format("frame {}: in the shadowed region ({} pixels with reference luminance below {:.2f} of its "
                             "mean) the realtime image has {:.3f} of the path tracer's energy (1 sigma {:.3f} from {} "

@@ -64,6 +64,11 @@ struct Instance {
   std::uint32_t mesh = 0;
   std::uint32_t material = 0;
   glm::mat4 transform{1.0f};     // object → world
+  // Object → world at the previous frame, where it differs from `transform`
+  // (Bevy's PreviousGlobalTransform, v0.18.0:bevy_pbr/src/prepass/mod.rs:124):
+  // set by apply_events, read by the G-buffer's motion vectors. None: the
+  // instance did not move since the previous frame, or did not exist then.
+  std::optional<glm::mat4> previous_transform;
   glm::vec3 emissive_scale{1.0f};  // light events scale the material's emission
   bool visible = true;           // despawned instances stay in the list, hidden
   // Hidden by remove_raytracing_mesh (Bevy: RaytracingMesh3d removed, the

@@ -75,6 +75,7 @@ const std::vector<std::pair<std::string, Scene (*)()>>& parameterless_generators
       {"cache_room_and_yard", &make_cache_room_and_yard}, {"cache_open_field", &make_cache_open_field},
       {"gi_corners", &make_gi_corners},               {"gi_mirror", &make_gi_mirror},
       {"gi_hard_cases", &make_gi_hard_cases},         {"leak_thin_wall", &make_leak_thin_wall},
+      {"leak_zero_thickness_wall", &make_leak_zero_thickness_wall},
       {"gi_indirect_shadow", &make_gi_indirect_shadow}, {"gi_headon_panel", &make_gi_headon_panel},
       {"gi_mirror_shadow_stripe", &make_gi_mirror_shadow_stripe},
       {"di_sun_penumbra", &make_di_sun_penumbra}};

@@ -173,7 +173,7 @@ void apply(State& st, const Scene& initial, const Scenario& s, const Event& e, s
   }
 }
 
-State evaluate(const Scene& initial, const Scenario& s, std::uint32_t frame) {
+State evaluate_at(const Scene& initial, const Scenario& s, std::uint32_t frame) {
   State st;
   st.instances = initial.instances;
   st.materials = initial.materials;
@@ -203,6 +203,18 @@ State evaluate(const Scene& initial, const Scenario& s, std::uint32_t frame) {
     st.directional[i].illuminance = initial.directional_lights[i].illuminance * l.intensity;
     st.directional[i].color = l.color;
   }
+  return st;
+}
+
+// The state at `frame` with each instance's previous transform (the one at
+// frame − 1) where it moved since.
+State evaluate(const Scene& initial, const Scenario& s, std::uint32_t frame) {
+  State st = evaluate_at(initial, s, frame);
+  if (frame == 0) return st;
+  const State before = evaluate_at(initial, s, frame - 1);
+  for (std::size_t i = 0; i < st.instances.size() && i < before.instances.size(); ++i)
+    if (before.instances[i].transform != st.instances[i].transform)
+      st.instances[i].previous_transform = before.instances[i].transform;
   return st;
 }
 
@@ -238,6 +250,7 @@ ChangeSet compare(const Scene& scene, const Scene& initial, const State& st) {
     const Instance& b = st.instances[i];
     if (a.name != b.name || a.mesh != b.mesh || a.material != b.material) c.geometry = true;
     if (a.transform != b.transform) c.transforms = true;
+    if (a.previous_transform != b.previous_transform) c.motion = true;
     if (a.visible != b.visible) c.visibility = true;
     if (a.emissive_scale != b.emissive_scale) c.lights = true;
   }

@@ -37,6 +37,10 @@
 //    (or spawn) transform, visible. "mesh": a generated mesh and material are
 //    appended (generate_mesh()), transform = Δ.
 //  - despawn: visible = false (the instance stays in the list).
+//  - every instance's previous_transform is its transform at frame f − 1
+//    where that differs from its transform at f; none at frame 0 and on a
+//    spawn's first frame (Bevy gives a new mesh its own transform as the
+//    previous one: v0.18.0:bevy_pbr/src/prepass/mod.rs:229-230).
 //  - remove_raytracing_mesh: visible = false and raytracing_mesh_removed
 //    (Bevy's RaytracingMesh3d removed while the entity lives on). The scene
 //    here is the truth the references see; FrameLoop decides what the
@@ -56,6 +60,10 @@ struct ChangeSet {
   bool materials = false;   // a material changed
   bool lights = false;      // emissive_scale, a directional light, or a material's emission changed
   bool camera = false;
+  // An instance's previous transform changed (Instance::previous_transform):
+  // the motion vectors only, so not part of any(); the frame after an object
+  // stops moving has it alone.
+  bool motion = false;
   bool any() const { return geometry || transforms || visibility || materials || lights || camera; }
 };
 

@@ -141,6 +141,7 @@ FlatInstances flatten_instances(const Scene& scene, const FlatGeometry& geometry
     const MeshRange& r = geometry.meshes[inst.mesh];
     GpuInstance g{};
     g.object_to_world = inst.transform;
+    f.previous_object_to_world.push_back(inst.previous_transform.value_or(inst.transform));
     g.normal_to_world = glm::transpose(glm::inverse(inst.transform));
     g.first_index = r.first_index;
     g.first_vertex = r.first_vertex;

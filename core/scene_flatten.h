@@ -51,6 +51,10 @@ struct FlatGeometry {
 
 struct FlatInstances {
   std::vector<GpuInstance> instances;  // one per Scene::instances entry, hidden ones included
+  // Parallel to instances: last frame's object_to_world
+  // (Instance::previous_transform, else this frame's), for the G-buffer's
+  // motion vectors only.
+  std::vector<glm::mat4> previous_object_to_world;
   std::vector<GpuMaterial> materials;
   std::vector<GpuMaterialTextures> material_textures;  // parallel to materials; empty without images
   std::vector<GpuLight> lights;        // directional lights first

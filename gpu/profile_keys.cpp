@@ -256,7 +256,8 @@ const std::vector<Row<S>>& solari_rows() {
     add(choice<bool>("scene.raytracing_mesh_removal", {{"ignored", true}, {"applied", false}},
                      to(&S::raytracing_mesh_removal_ignored)));
     add(choice<gpu::MotionVectors>("temporal.motion_vectors",
-                                   {{"previous_view", gpu::MotionVectors::previous_view},
+                                   {{"object", gpu::MotionVectors::object},
+                                    {"camera", gpu::MotionVectors::camera},
                                     {"ignored", gpu::MotionVectors::ignored}},
                                    to(&S::motion_vectors)));
     add(choice<std::uint32_t>("textures.normal_map_decode",
@@ -309,6 +310,8 @@ const std::vector<Row<S>>& solari_rows() {
     add(integer("restir_di.spatial_tries", to(&S::di, &Di::spatial_tries), to(&S::gi, &Gi::spatial_tries)));
     add(choice<bool>("restir_di.spatial_search", {{"fixed", false}, {"halving", true}},
                      to(&S::di, &Di::spatial_radius_halving), to(&S::gi, &Gi::spatial_radius_halving)));
+    add(choice<bool>("restir_di.spatial_disk", {{"concentric_clamped", true}, {"polar_rejected", false}},
+                     to(&S::di, &Di::spatial_disk_clamped), to(&S::gi, &Gi::spatial_disk_clamped)));
     add(number("restir_di.dissimilar_plane_tolerance", to(&S::di, &Di::plane_tolerance),
                to(&S::gi, &Gi::plane_tolerance)));
     add(number("restir_di.dissimilar_normal_min_dot", to(&S::di, &Di::normal_min_dot),
@@ -335,6 +338,8 @@ const std::vector<Row<S>>& solari_rows() {
                            }));
     add(choice<bool>("restir_di.initial_visibility", {{"fed_forward", true}, {"shading_only", false}},
                      to(&S::di, &Di::initial_visibility_fed_forward)));
+    add(choice<bool>("restir_di.reuse_radiance", {{"scene", true}, {"tile_encoding", false}},
+                     to(&S::di, &Di::reuse_radiance_scene)));
     add(choice<bool>("restir_di.shading", {{"base_over_pi", true}, {"brdf", false}},
                      to(&S::di, &Di::shading_base_over_pi)));
     add(choice<bool>("restir_di.emissive_exposure", {{"exposed", false}, {"unexposed", true}},
@@ -388,6 +393,8 @@ const std::vector<Row<S>>& solari_rows() {
                                  {"world_cache", Gi::HitRadiance::world_cache}},
                                 to(&S::gi, &Gi::hit_radiance)));
     add(number("restir_gi.ray_tmax", to(&S::gi, &Gi::ray_tmax)));
+    add(choice<bool>("restir_gi.sample_normal", {{"shading", true}, {"face_toward_ray", false}},
+                     to(&S::gi, &Gi::sample_normal_shading)));
 
     // Specular GI (glossy paths: GI's, and the world cache's secondary hits).
     add(flag("specular.enabled", to(&S::gi, &Gi::specular)));
@@ -414,6 +421,8 @@ const std::vector<Row<S>>& solari_rows() {
                      to(&S::gi, &Gi::specular_perfect_mirror_metal)));
     add(choice<bool>("specular.directional_lights", {{"nee_only", true}, {"mis", false}},
                      to(&S::gi, &Gi::specular_sun_nee_only)));
+    add(choice<bool>("specular.mirror_throughput", {{"sampled", false}, {"full_brdf", true}},
+                     to(&S::gi, &Gi::specular_mirror_throughput_brdf)));
 
     // The world cache.
     add(integer("world_cache.cells", to(&S::cache, &Wc::cells)));
@@ -430,6 +439,8 @@ const std::vector<Row<S>>& solari_rows() {
     add(choice<float>("world_cache.normal_key", {{"half_unit", 2.0f}, {"unit", 1.0f}},
                       to(&S::cache, &Wc::normal_key_scale)));
     add(flag("world_cache.first_bounce_leak_rule", to(&S::cache, &Wc::first_bounce_leak_rule)));
+    add(choice<bool>("world_cache.hit_normal", {{"vertex", true}, {"face_toward_ray", false}},
+                     to(&S::gi, &Gi::hit_cache_normal_vertex), to(&S::cache, &Wc::hit_normal_vertex)));
     add(integer("world_cache.update_soft_cap", to(&S::cache, &Wc::update_soft_cap)));
     add(integer("world_cache.workgroup_size", to(&S::cache, &Wc::update_workgroup_size)));
     add(choice<bool>("world_cache.cache_to_cache_life", {{"atomic_max", false}, {"full", true}},

@@ -169,9 +169,21 @@ void Renderer::update_scene(const FlatInstances& scene, const std::vector<bool>&
     cluster_table_buffer_.upload(cluster_table_);
   }
   if (di_) di_->update_lights(scene);
+  update_previous_transforms(scene);
   if (as_ && as_->take_tlas_handle_changed()) bindings_dirty_ = true;
   if (bvh_ && bvh_->take_buffers_changed()) bindings_dirty_ = true;
   scene_uploaded_ = true;
+}
+
+void Renderer::update_previous_transforms(const FlatInstances& scene) {
+  if (!options_.gbuffer) return;
+  std::vector<glm::mat4> previous = scene.previous_object_to_world;
+  if (previous.size() != scene.instances.size()) {
+    previous.clear();
+    for (const GpuInstance& inst : scene.instances) previous.push_back(inst.object_to_world);
+  }
+  ensure_buffer(previous_transforms_, previous.size() * sizeof(glm::mat4), kStorage, "previous transforms");
+  if (!previous.empty()) previous_transforms_.upload(previous);
 }
 
 void Renderer::bind_passes() {
@@ -186,7 +198,7 @@ void Renderer::bind_passes() {
   }
   if (as_) scene.previous_tlas = as_->previous_tlas();
   if (primary_visibility_) primary_visibility_->bind(scene, visibility_, depth_, cluster_table_buffer_);
-  if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_);
+  if (gbuffer_resolve_) gbuffer_resolve_->bind(scene, visibility_, depth_, gbuffer_, cluster_table_buffer_, previous_transforms_);
   if (reference_path_trace_) reference_path_trace_->bind(scene, reference_a_, reference_b_, nonfinite_);
   if (di_) di_->bind(scene, gbuffer_);
   if (world_cache_) world_cache_->bind(scene, gbuffer_, di_ ? &di_->tile_packed() : nullptr);

@@ -63,7 +63,7 @@ struct RendererOptions {
   // reference path tracer always decodes them as glTF says.
   std::uint32_t normal_map_decode = 2;
   // The G-buffer's motion vectors (the profile's temporal.motion_vectors).
-  MotionVectors motion_vectors = MotionVectors::previous_view;
+  MotionVectors motion_vectors = MotionVectors::object;
 };
 
 class Renderer {
@@ -84,6 +84,10 @@ class Renderer {
   // visible instance's transform or the visible set changed. visible[i] is
   // instance i's visibility (a missing entry = visible).
   void update_scene(const FlatInstances& instances, const std::vector<bool>& visible);
+  // Uploads last frame's transforms alone (FlatInstances::previous_object_to_world,
+  // this frame's where it is empty): what a frame whose only change is the
+  // motion vectors' (ChangeSet::motion) needs. update_scene calls it.
+  void update_previous_transforms(const FlatInstances& instances);
   // Records, submits and waits: visibility, G-buffer, reference (each only if
   // enabled), with timestamps. frame.resolution_frame.xy must match the options.
   void render_frame(const FrameConstants& frame);
@@ -203,6 +207,7 @@ class Renderer {
   ClusterIdLayout cluster_layout_;
   std::vector<std::uint32_t> cluster_table_;
   Buffer cluster_table_buffer_;
+  Buffer previous_transforms_;  // mat4 per instance, the G-buffer's motion vectors
   bool scene_uploaded_ = false;
   bool bindings_dirty_ = true;
 };

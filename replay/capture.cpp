@@ -15,6 +15,7 @@
 #include "core/png_preview.h"
 #include "core/shared/word_hash.h"
 #include "gpu/renderer.h"
+#include "gpu/state_layouts.h"
 
 namespace gi {
 namespace {
@@ -112,6 +113,9 @@ void write_capture(const std::filesystem::path& dir, nlohmann::json manifest, gp
                        {"layout", b.layout},
                        {"bytes", bytes.size()},
                        {"hash", bytes_hash(bytes.data(), bytes.size())}});
+    // The struct's fields (gpu/state_layouts.h), so a reader names them without
+    // a table of its own: share/giharness/python/giharness_capture.py, inspect.
+    if (nlohmann::json fields = gpu::layout_fields_json(b.layout); !fields.is_null()) buffers.back()["fields"] = fields;
   }
   gpu::HostState host;
   renderer.save_host_state(host);

@@ -4,6 +4,7 @@
 //     manifest.json      the run (scenario document, frame, frames, seed, profile, --set values,
 //                        backend, device, driver), the loop's state, the passes' host state,
 //                        and every buffer: file, dtype, shape, layout, hash of its bytes (bytes_hash)
+//                        and, where the layout is a struct, its fields (gpu/state_layouts.h)
 //     images.exr         multi-layer: output (R,G,B), di/half_a/half_b, albedo, normal, depth, motion
 //     images.png         preview of the output
 //     <buffer>.npy       every buffer Renderer::list_state gives ("di/stored_reservoirs" →

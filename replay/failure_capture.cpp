@@ -47,7 +47,11 @@ nlohmann::json capture_failing_frames(const Scenario& scenario, const RunOptions
     const auto it = frame_of.find(c.name);
     if (it == frame_of.end()) continue;
     c.evidence.push_back(capture_folder(it->second).string());
-    list.push_back({{"check", c.name}, {"frame", it->second}, {"capture", capture_folder(it->second).string()}});
+    nlohmann::json entry = {{"check", c.name}, {"frame", it->second}, {"capture", capture_folder(it->second).string()}};
+    // The region the check judged, for the inspector to outline (CheckResult::region).
+    if (!c.region.is_null()) entry["region"] = c.region;
+    if (!c.region_mask.is_null()) entry["region_mask"] = c.region_mask;
+    list.push_back(entry);
   }
   return list;
 }

@@ -16,7 +16,8 @@ namespace gi {
 // For each failing check: its first failing frame (the last frame when it
 // names none). Frames the run already captured are only listed. Adds the
 // capture folder to each check's evidence; returns
-// [{"check", "frame", "capture"}] for summary.json.
+// [{"check", "frame", "capture"}] for summary.json, with the check's
+// "region" and "region_mask" where it judged a region (CheckResult::region).
 nlohmann::json capture_failing_frames(const Scenario& scenario, const RunOptions& run, std::uint32_t frames,
                                       const std::vector<std::uint32_t>& captured, std::vector<CheckResult>& checks);
 

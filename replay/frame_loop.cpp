@@ -121,7 +121,13 @@ void FrameLoop::apply_frame_events(std::uint32_t frame) {
     each_pipeline([&](gpu::Renderer& r) { r.update_geometry(geometry_); });
     for (auto& check : setup_.checks) check->prepare(*renderer_, scene_, geometry_);
   }
-  if (changes.any()) upload_scene();
+  if (changes.any()) {
+    upload_scene();
+  } else if (changes.motion) {  // the frame after a move: last frame's transforms only
+    for (std::size_t i = 0; i < scene_.instances.size(); ++i)
+      flat_.previous_object_to_world[i] = scene_.instances[i].previous_transform.value_or(scene_.instances[i].transform);
+    each_pipeline([&](gpu::Renderer& r) { r.update_previous_transforms(flat_); });
+  }
   if (changes.any() && frame > 0) static_start_ = frame;
   const std::uint32_t warmup = setup_.warmup_frames;
   if ((changes.any() && frame > 0) || (warmup > 0 && frame == static_start_ + warmup)) {

@@ -164,6 +164,22 @@ std::string image_section(const std::filesystem::path& scenario_dir, const std::
                             html_escape(scenario_rel + "/" + exr.string()), html_escape(exr.string()));
   }
   if (!captures.empty()) out += "<h4>captures</h4><div class=\"triplet\">" + captures + "</div>\n";
+  // Each failing check's capture, inspected by the nightly (giharness inspect):
+  // the page opened on the output with the check's region outlined where it names one.
+  std::string inspect;
+  for (const nlohmann::json& f : summary.value("failure_captures", nlohmann::json::array())) {
+    if (!f.is_object() || !f.contains("capture") || !f["capture"].is_string()) continue;
+    const std::filesystem::path page = std::filesystem::path(f["capture"].get<std::string>()) / "inspect.html";
+    if (!std::filesystem::exists(scenario_dir / page)) continue;
+    std::string fragment = "#source=output";
+    if (f.contains("region") && f["region"].is_array() && f["region"].size() == 4)
+      fragment += fmt::format("&region={},{},{},{}", f["region"][0].dump(), f["region"][1].dump(),
+                              f["region"][2].dump(), f["region"][3].dump());
+    inspect += fmt::format("<li><a class=\"inspect\" href=\"{}\">inspect {} at frame {}</a></li>",
+                           html_escape(scenario_rel + "/" + page.string() + fragment),
+                           html_escape(f.value("check", std::string("?"))), f.value("frame", 0u));
+  }
+  if (!inspect.empty()) out += "<h4>failing checks' captures</h4><ul>" + inspect + "</ul>\n";
   return out.empty() ? "<p class=\"note\">no images</p>" : out;
 }
 

@@ -332,6 +332,11 @@ TEST(NightlyCapture, FailingCheckLeavesACaptureOfItsFirstFailingFrame) {
   EXPECT_FALSE(std::filesystem::exists(out / "tiny_fail/.failure_rerun"));
   const nlohmann::json suite = test::read_json(out / "summary.json");
   EXPECT_EQ(suite["scenarios"][0]["failure_captures"][0]["capture"], "tiny_fail/captures/frame_00005");
+  // The nightly inspected it (giharness inspect), and the report links the page.
+  EXPECT_TRUE(std::filesystem::exists(capture / "inspect.html"));
+  EXPECT_EQ(suite["scenarios"][0]["failure_captures"][0]["inspect"], "tiny_fail/captures/frame_00005/inspect.html");
+  EXPECT_NE(test::read_text(out / "report.html").find("href=\"tiny_fail/captures/frame_00005/inspect.html#source=output\""),
+            std::string::npos);
   // …and it replays to the same bits as the run that captured it.
   const test::CommandResult replay = test::run_giharness("replay " + capture.string() + " --verify --out " +
                                                          (dir.path() / "replay").string());

@@ -42,6 +42,7 @@ void expect_same(const gi::Scene& a, const gi::Scene& b) {
     EXPECT_EQ(a.instances[i].mesh, b.instances[i].mesh);
     EXPECT_EQ(a.instances[i].material, b.instances[i].material);
     EXPECT_EQ(a.instances[i].transform, b.instances[i].transform) << a.instances[i].name;  // bit for bit
+    EXPECT_EQ(a.instances[i].previous_transform, b.instances[i].previous_transform) << a.instances[i].name;
     EXPECT_EQ(a.instances[i].emissive_scale, b.instances[i].emissive_scale);
     EXPECT_EQ(a.instances[i].visible, b.instances[i].visible);
   }
@@ -207,6 +208,50 @@ TEST(Events, RangedTransformIsAPureFunctionOfTheFrame) {
     if (m.name != "red") continue;
     EXPECT_EQ(m.base_color, glm::vec3(0.63f, 0.065f, 0.05f) * 0.5f + glm::vec3(0, 0, 0.5f));
   }
+}
+
+// Each instance's previous transform is its transform one frame earlier,
+// only where it moved since (Bevy's PreviousGlobalTransform: last frame's
+// GlobalTransform, a new mesh its own); the frame after a move changes the
+// motion vectors alone, so it starts no new accumulation window.
+TEST(Events, PreviousTransformIsLastFramesWhereTheInstanceMoved) {
+  gi::Scenario s = scenario_with(json::array({
+      json{{"type", "transform"}, {"frames", {3, 6}}, {"instance", "short_block"}, {"translation", {0.3, 0, 0}}},
+      json{{"type", "transform"}, {"frame", 8}, {"instance", "tall_block"}, {"translation", {0, 0.5, 0}}},
+      json{{"type", "spawn"}, {"frame", 5}, {"instance", "copy"}, {"of", "tall_block"}, {"translation", {0, 1, 0}}}}));
+  const gi::Scene initial = initial_scene(s);
+  const std::uint32_t tall = *initial.find_instance("tall_block");
+  const std::uint32_t shorter = *initial.find_instance("short_block");
+  gi::Scene scene = initial;
+  std::vector<gi::ChangeSet> c;
+  std::vector<gi::Scene> at;
+  for (std::uint32_t f = 0; f < 11; ++f) {
+    c.push_back(gi::apply_events(scene, initial, s, f));
+    at.push_back(scene);
+  }
+  for (std::uint32_t f : {0u, 1u, 2u, 3u, 7u, 10u})
+    for (const gi::Instance& i : at[f].instances) EXPECT_FALSE(i.previous_transform) << i.name << " at " << f;
+  for (std::uint32_t f : {4u, 5u, 6u}) {  // t = 0 at frame 3: the block moves from frame 4 to 6
+    SCOPED_TRACE(f);
+    ASSERT_TRUE(at[f].instances[shorter].previous_transform);
+    EXPECT_EQ(*at[f].instances[shorter].previous_transform, at[f - 1].instances[shorter].transform);
+    EXPECT_NE(at[f].instances[shorter].transform, at[f - 1].instances[shorter].transform);
+    EXPECT_FALSE(at[f].instances[tall].previous_transform);
+  }
+  ASSERT_EQ(at[5].instances.size(), initial.instances.size() + 1);
+  EXPECT_FALSE(at[5].instances.back().previous_transform) << "a spawn's first frame has no motion";
+  ASSERT_TRUE(at[8].instances[tall].previous_transform);
+  EXPECT_EQ(*at[8].instances[tall].previous_transform, initial.instances[tall].transform);
+  EXPECT_FALSE(at[9].instances[tall].previous_transform);
+  // The frame after each move: motion only.
+  for (std::uint32_t f : {7u, 9u}) {
+    EXPECT_TRUE(c[f].motion) << f;
+    EXPECT_FALSE(c[f].any()) << f;
+  }
+  EXPECT_TRUE(c[8].transforms && c[8].motion);
+  EXPECT_FALSE(c[10].motion || c[10].any());
+  // A replay from a capture at frame 8 resumes with frame 8's previous transforms.
+  expect_same(gi::scene_at_frame(initial, s, 8), at[8]);
 }
 
 TEST(Events, SpawnAndDespawn) {

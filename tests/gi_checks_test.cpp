@@ -4,7 +4,9 @@
 // - jacobian: gi_corners passes under 0.18 (rejection above 1.2); with the
 //   rejection switched off it fails and names the first frame;
 // - finite: the zero-roughness mirror stays finite with 0.18's roughness clamp
-//   and turns NaN without it (the 0.17 state).
+//   and turns NaN without it (the 0.17 state);
+// - the reuse jacobian of a sample on a back face: 0 under Solari's sample
+//   normal (restir_gi.sample_normal "shading"), finite under the flipped one.
 // Small runs (64×64, a few frames) on lavapipe.
 #include <gtest/gtest.h>
 
@@ -12,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "core/npy.h"
 #include "test_support.h"
 
 namespace gi {
@@ -31,6 +34,37 @@ nlohmann::json check(const GiRun& r, const std::string& name) {
     if (c["name"] == name) return c;
   ADD_FAILURE() << "no check " << name << " in " << r.output;
   return {};
+}
+
+// gi/stats's count of raw jacobians that were inf or NaN (GiStats, word 3) in
+// the capture of `frame`.
+std::uint32_t nonfinite_jacobians(const std::filesystem::path& out, std::uint32_t frame) {
+  const NpyArray stats = read_npy(out / "captures" / fmt::format("frame_{:05}", frame) / "gi.stats.npy");
+  return reinterpret_cast<const std::uint32_t*>(stats.data.data())[3];
+}
+
+// Solari's GI sample keeps its hit's shading normal, unflipped (v0.18.0
+// realtime/restir_gi.wgsl:108), and its jacobian saturates both cosines
+// (:206-207): from a sample on the back of a wall of one face every
+// receiver is behind the normal, J = 0/0 and the merge is refused. With the
+// normal flipped towards the ray that found the sample, J is finite there.
+TEST(GiJacobianCheck, SolarisSampleNormalGivesBackFaceSamplesNoJacobian) {
+  test::TempDir dir("gi_sample_normal");
+  const auto file = test::write_scenario_variant(
+      "scenarios/expected_failures/leak_zero_thickness_wall.json", dir.path(), "short.json", [](nlohmann::json& doc) {
+        doc["frames"] = 6;
+        doc["checks"] = nlohmann::json::array({{{"name", "finite"}}});
+      });
+  auto run = [&](const std::string& sets, const std::string& tag) {
+    const auto r = test::run_giharness("run " + file.string() + " --capture 5 " + sets + " --out " +
+                                       (dir.path() / tag).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nonfinite_jacobians(dir.path() / tag, 5);
+  };
+  const std::uint32_t solari = run("", "solari");
+  const std::uint32_t flipped = run("--set restir_gi.sample_normal=face_toward_ray", "flipped");
+  EXPECT_GT(solari, 100u);
+  EXPECT_LT(flipped * 20, solari) << "flipped " << flipped << ", Solari's " << solari;
 }
 
 TEST(GiJacobianCheck, CornersPassWithRejectionAndFailWithoutNamingTheFrame) {

@@ -81,6 +81,7 @@ std::string describe(const RealtimeSettings& r) {
   F(d, temporal_permutation); F(d, temporal_fallback); F(d, offscreen_own_pixel); F(d, tile_per_workgroup);
   F(d, visibility_final); F(d, visibility_final_stored); F(d, emissive_unexposed); F(d, sun_center);
   F(d, show_background); F(d, spatial_radius_halving); F(d, background); F(d, initial_visibility_fed_forward);
+  F(d, reuse_radiance_scene);
   F(d, chains); F(d, specular_handover_alpha); F(d, shading_base_over_pi); F(d, tile_seed_scrolling);
   defines(out, d.defines());
   const gpu::GiSettings& s = r.gi;
@@ -96,6 +97,7 @@ std::string describe(const RealtimeSettings& r) {
   F(s, specular_path_long_ray); F(s, specular_cache_every_vertex); F(s, specular_russian_roulette);
   F(s, specular_vndf_mirror_alpha); F(s, specular_mis_light_pdf_area); F(s, specular_perfect_mirror_metal);
   F(s, specular_sun_nee_only); F(s, specular_mirror_exact); F(s, specular_mesh_tangent_frame);
+  F(s, specular_mirror_throughput_brdf);
   F(s, specular_handover_alpha); F(s, specular_max_bounces); F(s, min_perceptual_roughness); F(s, chains);
   defines(out, s.defines());
   const gpu::WorldCacheSettings& c = r.cache;

@@ -107,6 +107,7 @@ std::vector<Variant> renderer_variants(const gpu::RendererOptions& o, const Defi
   if (o.gbuffer) {
     add(gpu::PrimaryVisibility::kShader);
     Defines motion;
+    if (o.motion_vectors == gpu::MotionVectors::object) motion.push_back({"GBUFFER_MOTION_OBJECT", ""});
     if (o.motion_vectors == gpu::MotionVectors::ignored) motion.push_back({"GBUFFER_MOTION_IGNORED", ""});
     add(gpu::GBufferResolve::kShader, motion);
   }

@@ -99,19 +99,39 @@ Scene make_cache_open_field() {
   return s;
 }
 
-// 6 × 2.5 × 4 m, split at z = 0 by a 2 cm wall; a 0.8 × 2 m doorway at its
+namespace {
+
+// The wall's three parts (the wall, its end past the doorway, the lintel) as
+// boxes `half_thickness` either side of z = 0, or, at 0, as single faces
+// whose front looks into the lit room (z < 0).
+void add_dividing_wall(Scene& s, float half_thickness) {
+  const glm::vec3 wall_colour(0.6f, 0.6f, 0.6f);
+  auto part = [&](const char* name, glm::vec2 lo, glm::vec2 hi) {
+    if (half_thickness > 0.0f) {
+      add_object(s, box_mesh(name, {lo.x, lo.y, -half_thickness}, {hi.x, hi.y, half_thickness}),
+                 lambert_material(name, wall_colour));
+      return;
+    }
+    Mesh m{name};
+    add_quad(m, {lo.x, lo.y, 0.0f}, {hi.x, lo.y, 0.0f}, {hi.x, hi.y, 0.0f}, {lo.x, hi.y, 0.0f},
+             {0.5f * (lo.x + hi.x), 0.5f * (lo.y + hi.y), -1.0f});
+    add_object(s, std::move(m), lambert_material(name, wall_colour));
+  };
+  part("wall", {-3.0f, 0.0f}, {1.8f, 2.5f});
+  part("wall_end", {2.6f, 0.0f}, {3.0f, 2.5f});
+  part("lintel", {1.8f, 2.0f}, {2.6f, 2.5f});
+}
+
+// 6 × 2.5 × 4 m, split at z = 0 by a wall (2 cm, or one face); a 0.8 × 2 m doorway at its
 // +x end lets a little light into the near room (z > 0), so the wall's near
 // side is dark but not black in the path tracer. The panel over the far room
 // is the only light.
-Scene make_leak_thin_wall() {
+Scene leak_rooms(const char* name, float wall_half_thickness) {
   Scene s;
-  s.name = "leak_thin_wall";
+  s.name = name;
   add_object(s, box_mesh("shell", {-3.0f, 0.0f, -2.0f}, {3.0f, 2.5f, 2.0f}, true),
              lambert_material("shell", glm::vec3(0.6f, 0.58f, 0.55f)));
-  const glm::vec3 wall_colour(0.6f, 0.6f, 0.6f);
-  add_object(s, box_mesh("wall", {-3.0f, 0.0f, -0.01f}, {1.8f, 2.5f, 0.01f}), lambert_material("wall", wall_colour));
-  add_object(s, box_mesh("wall_end", {2.6f, 0.0f, -0.01f}, {3.0f, 2.5f, 0.01f}), lambert_material("wall_end", wall_colour));
-  add_object(s, box_mesh("lintel", {1.8f, 2.0f, -0.01f}, {2.6f, 2.5f, 0.01f}), lambert_material("lintel", wall_colour));
+  add_dividing_wall(s, wall_half_thickness);
   Mesh light{"light"};
   add_quad(light, {-1.5f, 2.48f, -1.5f}, {0.5f, 2.48f, -1.5f}, {0.5f, 2.48f, -0.5f}, {-1.5f, 2.48f, -0.5f},
            {-0.5f, 0.0f, -1.0f});
@@ -121,5 +141,14 @@ Scene make_leak_thin_wall() {
   s.camera.vertical_fov_degrees = 70.0f;
   return s;
 }
+
+}  // namespace
+
+Scene make_leak_thin_wall() { return leak_rooms("leak_thin_wall", 0.01f); }
+
+// Bevy keys a hit's cell with the mesh's normal, never flipped (world_cache.hit_normal
+// "vertex"): a ray from the dark room that hits this wall's back queries the
+// lit side's cell.
+Scene make_leak_zero_thickness_wall() { return leak_rooms("leak_zero_thickness_wall", 0.0f); }
 
 }  // namespace gi

@@ -12,6 +12,11 @@
 //                       end; a panel lights the far room only, and the camera
 //                       looks at the wall's dark side, which the world cache's
 //                       cells (15-25 cm) straddle (the light_leak check).
+//   leak_zero_thickness_wall : the same two rooms split by a wall of one
+//                       face (no thickness; the mesh's normal towards the
+//                       lit room, both sides drawn as a double_sided plane
+//                       is in Bevy), so rays from the dark room hit its back:
+//                       which cell a back face keys (world_cache.hit_normal).
 #pragma once
 #include "core/scene.h"
 
@@ -21,5 +26,6 @@ Scene make_cache_closed_room();
 Scene make_cache_room_and_yard();
 Scene make_cache_open_field();
 Scene make_leak_thin_wall();
+Scene make_leak_zero_thickness_wall();
 
 }  // namespace gi

@@ -53,12 +53,12 @@ GI_FN ResolvedLightSample resolve_light_sample(LightSample ls) {
   return r;
 }
 
-// The light radiance every DI evaluation sees: the scene's radiance taken
-// through the light tiles' encoding (packing.h). The harness models light
-// samples as carrying their radiance in the tile encoding everywhere DI uses
-// them (initial candidates from the tiles, re-resolved reused samples, final
-// shading), so the encoding's range and precision show in DI's output
-// (README, "Design notes").
+// The scene's radiance taken through the light tiles' encoding (packing.h):
+// what a tile sample carries. Bevy's DI re-resolves reused samples in full
+// precision (resolve_light_sample above); this is the world cache's random
+// sample and, under restir_di.reuse_radiance "tile_encoding" (the harness's
+// earlier model), every DI evaluation's (docs/findings/restir-di.md, "The
+// tile encoding").
 GI_FN ResolvedLightSample resolve_light_sample_encoded(LightSample ls, float exposure, bool log2_radiance) {
   ResolvedLightSample r = resolve_light_sample(ls);
   r.radiance = unpack_radiance(pack_radiance(r.radiance, exposure, log2_radiance), exposure, log2_radiance);

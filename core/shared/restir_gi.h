@@ -23,7 +23,7 @@ GI_CONST uint RNG_DOMAIN_SPECULAR = 0x4CF5AD43u;
 // 48 bytes, whole vec4s (std430 == C++).
 struct GiReservoir {
   vec4 sample_position;   // xyz the reconnection point, w M (confidence weight)
-  vec4 sample_normal;     // xyz its geometric normal facing the pixel that found it
+  vec4 sample_normal;     // xyz its normal (restir_gi.sample_normal: the hit's shading normal, or its face normal facing the pixel that found it)
   vec4 radiance;          // rgb radiance the point sends back, a W (0: empty)
 };
 

@@ -93,6 +93,7 @@ GI_FN SurfacePoint surface_at(uint instance_index, uint primitive, vec2 bary) {
     float nl = length(n);
     if (nl > 0.0f) s.shading_normal = n / nl;
   }
+  s.vertex_normal = s.shading_normal;
   s.material = inst.material;
   GpuMaterial m = scene_material(inst.material);
   s.emissive = vec3(m.emissive_perceptual_roughness) * vec3(inst.emissive_scale);

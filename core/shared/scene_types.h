@@ -84,6 +84,11 @@ struct SurfacePoint {
   vec3 position;
   vec3 geometric_normal;  // unit, from the winding (counter-clockwise = front)
   vec3 shading_normal;    // unit, interpolated vertex normal or geometric
+  // The interpolated vertex normal before any normal map (geometric where the
+  // mesh has none), never flipped: what Bevy calls a hit's
+  // geometric_world_normal (v0.18.0 scene/raytracing_scene_bindings.wgsl:199-201)
+  // and keys the world cache with (world_cache.hit_normal "vertex").
+  vec3 vertex_normal;
   float area;             // world-space area of the triangle
   vec3 emissive;          // radiance emitted from the front face
   uint material;

@@ -32,6 +32,16 @@
 //                         emitter its bounce hits gets weight 1, only at alpha
 //                         <= 0.001 and metallic > 0.9999: v0.18.0
 //                         realtime/specular_gi.wgsl:109), 0 "alpha" (alpha alone)
+//   HIT_MIRROR_THROUGHPUT_BRDF specular.mirror_throughput: 1 "full_brdf"
+//                         (Solari 0.19, its specular GI pass only: at a vertex
+//                         of alpha <= 0.001 the bounce is the exact
+//                         reflection and the throughput is multiplied by the
+//                         whole BRDF·cos there, with no pdf, so a smooth
+//                         dielectric adds its diffuse lobe to the mirror
+//                         weight; NEE there has weight 1, since the bounce
+//                         never samples that lobe: v0.19.0
+//                         realtime/specular_gi.wgsl:155-159, :196-197),
+//                         0 "sampled" (the sampled lobe mixture's f·cos/pdf)
 //   HIT_SUN_NEE_ONLY      specular.directional_lights: 1 "nee_only" (Solari: a
 //                         directional light's NEE sample has weight 1, since
 //                         no BRDF ray can hit it, and a bounce that escapes
@@ -42,6 +52,12 @@
 //                         full base colour, metals too: v0.18.0
 //                         realtime/restir_gi.wgsl:120, world_cache_update.wgsl:43,
 //                         specular_gi.wgsl:116), 0 "diffuse" base·(1 − metallic)
+//   HIT_CACHE_NORMAL_VERTEX world_cache.hit_normal: 1 "vertex" (Solari: a
+//                         hit queries the cache with its interpolated vertex
+//                         normal, never flipped, so a back face keys its
+//                         front's cell: v0.18.0 realtime/restir_gi.wgsl:116,
+//                         specular_gi.wgsl:117, world_cache_update.wgsl:43),
+//                         0 "face_toward_ray" (the face normal facing the ray)
 // and, for HIT_RADIANCE 2, the cache it ends in:
 //   vec3  hit_cache_irradiance(vec3 position, vec3 ng, float ray_t, CacheQuery q, INOUT(uint) rng);
 //   float hit_cache_cell_size(vec3 position, uint rng);   // the cell's edge there
@@ -79,6 +95,22 @@ float hit_cache_cell_size(vec3 position, uint rng);
 #ifndef HIT_SUN_NEE_ONLY
 #define HIT_SUN_NEE_ONLY 0
 #endif
+#ifndef HIT_MIRROR_THROUGHPUT_BRDF
+#define HIT_MIRROR_THROUGHPUT_BRDF 0
+#endif
+#ifndef HIT_CACHE_NORMAL_VERTEX
+#define HIT_CACHE_NORMAL_VERTEX 0
+#endif
+
+// The normal a hit queries the world cache with (HIT_CACHE_NORMAL_VERTEX);
+// ng is the face normal facing the ray.
+GI_FN vec3 hit_cache_normal(SurfacePoint s, vec3 ng) {
+#if HIT_CACHE_NORMAL_VERTEX != 0
+  return s.vertex_normal;
+#else
+  return ng;
+#endif
+}
 
 GI_FN uint hit_mis_heuristic() {
   return (HIT_POWER_MIS != 0 ? MIS_POWER : MIS_BALANCE) | (HIT_MIS_LIGHT_PDF_AREA != 0 ? MIS_LIGHT_PDF_AREA : 0u) |
@@ -112,7 +144,7 @@ GI_FN vec3 end_path_radiance(SurfacePoint s, vec3 ng, vec3 ns, vec3 v, float ray
 #if HIT_RADIANCE == 2
   // Solari's query_world_cache at the hit. Queried even on a black surface,
   // as Solari does, so the cell exists.
-  return albedo * INV_PI * hit_cache_irradiance(s.position, ng, ray_t, q, rng);
+  return albedo * INV_PI * hit_cache_irradiance(s.position, hit_cache_normal(s, ng), ray_t, q, rng);
 #else
   if (max3(albedo) <= 0.0f) return vec3(0.0f);
   vec3 spawn = offset_ray_origin(s.position, ng);
@@ -235,11 +267,29 @@ GI_FN vec3 glossy_path_radiance_from(bool trace_first, Hit hit, vec3 spawn, vec3
     spawn = offset_ray_origin(s.position, hng);
     bool delta_lobe = brdf.alpha <= SPECULAR_MIRROR_ALPHA;
     bool mirror = delta_lobe && (HIT_PERFECT_MIRROR_METAL == 0 || s.base_color_metallic.w > 0.9999f);
-    if (!mirror) add_next_event(brdf, s.position, hng, hns, v, spawn, throughput, hit_mis_heuristic(), radiance, rng);
+#if HIT_MIRROR_THROUGHPUT_BRDF != 0
+    // Solari 0.19: the bounce at alpha <= 0.001 is the reflection alone (its
+    // pdf infinite), so NEE there takes weight 1 (nee_mis_weight's p_bounce 0).
+    uint nee_heuristic = delta_lobe ? MIS_NONE : hit_mis_heuristic();
+#else
+    uint nee_heuristic = hit_mis_heuristic();
+#endif
+    if (!mirror) add_next_event(brdf, s.position, hng, hns, v, spawn, throughput, nee_heuristic, radiance, rng);
     if (last) break;  // Solari: light beyond the last vertex is lost
     vec3 u = vec3(rng_next_float(rng), rng_next_float(rng), rng_next_float(rng));
     vec3 l;
     float pdf;
+#if HIT_MIRROR_THROUGHPUT_BRDF != 0
+    if (delta_lobe) {
+      // Solari 0.19 (v0.19.0 realtime/specular_gi.wgsl:156-159): throughput
+      // *= evaluate_brdf, diffuse lobe included, and no division by the pdf:
+      // a smooth dielectric reflects F + diffuse·layering·cos instead of F.
+      l = reflect(-v, hns);
+      if (dot(l, hng) <= 0.0f) break;
+      throughput *= specular_sample_weight(brdf, hns, v, l) + brdf_eval_diffuse(brdf, hns, v, l) * max(dot(hns, l), 0.0f);
+      pdf = 0.0f;  // the emission the reflection finds: weight 1 (power_heuristic(INF, p_light))
+    } else
+#endif
 #if HIT_MESH_TANGENT_FRAME != 0
     if (s.mesh_tangent.w != 0.0f) {
       // Solari 0.18: GGX alone in the mesh's frame, the BRDF at the unnormalised sample.

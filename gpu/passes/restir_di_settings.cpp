@@ -29,10 +29,12 @@ std::vector<ShaderDefine> DiSettings::defines() const {
           {"DI_TILE_PER_WORKGROUP", tile_per_workgroup ? "1" : "0"},
           {"DI_VISIBILITY_FINAL", visibility_final ? "1" : "0"},
           {"DI_INITIAL_VISIBILITY", initial_visibility_fed_forward ? "1" : "0"},
+          {"DI_REUSE_RADIANCE_SCENE", reuse_radiance_scene ? "1" : "0"},
           {"DI_SPECULAR_HANDOVER_ALPHA", f(specular_handover_alpha)},
           {"DI_SHADING_BASE_OVER_PI", shading_base_over_pi ? "1" : "0"},
           {"DI_EMISSIVE_UNEXPOSED", emissive_unexposed ? "1" : "0"},
-          {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"}};
+          {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"},
+          {"SPATIAL_DISK_CLAMPED", spatial_disk_clamped ? "1" : "0"}};
   if (visibility_final && visibility_final_stored) d.push_back({"DI_VISIBILITY_FINAL_STORED", "1"});
   if (sun_center) d.push_back({"LIGHT_SUN_CENTER", "1"});
   if (traces_previous_scene()) d.push_back({"TRACE_PREVIOUS_SCENE", ""});

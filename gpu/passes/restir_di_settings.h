@@ -76,11 +76,22 @@ struct DiSettings {
   // by #23968 before v0.19.0): each refused spatial try halves the disk's
   // radius; false ("fixed", every release): the full disk every try.
   bool spatial_radius_halving{};
+  // restir_di.spatial_disk "concentric_clamped" (Solari, DI and GI): a spatial
+  // try is a concentric disk sample clamped to the screen, so it may land on
+  // an edge pixel or the pixel itself; false: polar, rounded, refused off the
+  // screen or on itself (gpu/shaders/spatial_neighbour.glsl).
+  bool spatial_disk_clamped{};
   glm::vec3 background{0.0f};  // Scene::background
   // true: the initial winner's shadow ray zeroes its W and that W is stored
   // and reused (0.17 and 0.18 as released); false: the ray is not traced and
   // only the final shading ray tests visibility (README, "DI bias").
   bool initial_visibility_fed_forward{};
+  // restir_di.reuse_radiance "scene" (Bevy, every release): the reused
+  // samples' targets and the shaded radiance re-resolve the light from the
+  // scene in full precision, only the initial candidates read the tile
+  // encoding; false ("tile_encoding", the harness's earlier model): every DI
+  // evaluation sees the tile encoding.
+  bool reuse_radiance_scene{};
   std::uint32_t chains = 1;               // independent DI chains (2: an honest noise estimate)
   // specular.di_handover_alpha (Solari 0.18+): at alpha ≤ this DI shades the
   // diffuse lobe only and specular GI takes the specular lobe, first-hit

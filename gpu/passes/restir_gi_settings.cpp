@@ -25,6 +25,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_TEMPORAL_EDGE_STATS", temporal_edge_stats ? "1" : "0"},
           {"GI_PATH_COUNTERS", path_counters ? "1" : "0"},
           {"SPATIAL_RADIUS_HALVING", spatial_radius_halving ? "1" : "0"},
+          {"SPATIAL_DISK_CLAMPED", spatial_disk_clamped ? "1" : "0"},
           {"GI_TARGET_BRDF", target_brdf ? "1" : "0"},
           {"GI_TEMPORAL_HISTORY", temporal_history_pre_spatial ? "1" : "0"},
           {"GI_EMPTY_NO_CONFIDENCE", empty_no_confidence ? "1" : "0"},
@@ -36,6 +37,8 @@ std::vector<ShaderDefine> GiSettings::defines() const {
           {"GI_SKIP_SMOOTH_METALS", skip_smooth_metals ? "1" : "0"},
           {"GI_OFFSCREEN_OWN_PIXEL", offscreen_own_pixel ? "1" : "0"},
           {"GI_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
+          {"GI_HIT_CACHE_NORMAL_VERTEX", hit_cache_normal_vertex ? "1" : "0"},
+          {"GI_SAMPLE_NORMAL_SHADING", sample_normal_shading ? "1" : "0"},
           {"GI_CONSISTENT_MIS", consistent_mis ? "1" : "0"},
           {"GI_HIT_RADIANCE", std::to_string(static_cast<int>(hit_radiance))},
           {"GI_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
@@ -57,6 +60,7 @@ std::vector<ShaderDefine> GiSettings::defines() const {
   // Only when not Solari's 1: the released variants keep their compiled shaders.
   if (initial_samples != 1) d.push_back({"GI_INITIAL_SAMPLES", std::to_string(initial_samples)});
   if (specular_mirror_exact) d.push_back({"SPECULAR_MIRROR_EXACT", "1"});
+  if (specular_mirror_throughput_brdf) d.push_back({"SPECULAR_MIRROR_THROUGHPUT_BRDF", "1"});
   if (specular_vndf_mirror_alpha != 0.001f) d.push_back({"SPECULAR_VNDF_MIRROR_ALPHA", f(specular_vndf_mirror_alpha)});
   if (queries_world_cache()) d.insert(d.end(), world_cache_defines.begin(), world_cache_defines.end());
   return d;

@@ -44,6 +44,7 @@ struct GiSettings {
   // GiCounters (a buffer that exists only then).
   bool path_counters = false;
   bool spatial_radius_halving{};  // restir_di.spatial_search (DiSettings::spatial_radius_halving)
+  bool spatial_disk_clamped{};    // restir_di.spatial_disk (DiSettings::spatial_disk_clamped)
   // What temporal reuse does when the permuted pixel is unusable
   // (restir_gi.temporal_fallback): none (one try), point (Solari 0.18: the
   // unpermuted reprojection when the permuted surface differs or its
@@ -108,6 +109,14 @@ struct GiSettings {
   // brdf.secondary_albedo "base_color": a secondary hit reflects its full base
   // colour diffusely (Solari, metals included); false: base·(1 − metallic).
   bool secondary_albedo_base{};
+  // world_cache.hit_normal "vertex" (Solari): a GI sample's or glossy path's
+  // hit queries the cache with its interpolated vertex normal, unflipped (a
+  // back face keys its front's cell); false: the face normal facing the ray.
+  bool hit_cache_normal_vertex{};
+  // restir_gi.sample_normal "shading" (Solari): a GI sample keeps its hit's
+  // shading normal, unflipped, for the reuse jacobian (a back-face sample's
+  // jacobian is 0); false: the face normal facing the pixel that found it.
+  bool sample_normal_shading{};
   float ray_tmax{};                // the initial GI ray (restir_gi.ray_tmax)
   bool specular{};                 // specular.enabled
   float specular_reuse_roughness{};
@@ -143,6 +152,12 @@ struct GiSettings {
   // light's NEE sample at weight 1, an escaped bounce adds nothing; "mis":
   // NEE weighed against the bounce, which adds the sun when it escapes.
   bool specular_sun_nee_only{};
+  // specular.mirror_throughput "full_brdf" (0.19, realtime specular GI
+  // only): at a glossy path's vertex of alpha <= 0.001 the exact reflection,
+  // weighted by the whole BRDF·cos with no pdf (a smooth dielectric adds its
+  // diffuse lobe), NEE there at weight 1; false ("sampled"): the sampled
+  // lobe mixture's f·cos/pdf.
+  bool specular_mirror_throughput_brdf{};
   // brdf.mirror "exact" (0.19, #22468): a mirror's sampled reflection weighs
   // the Fresnel term alone; "clamped_ggx" (0.18) the alpha-0.001 GGX lobe
   // over its pdf.

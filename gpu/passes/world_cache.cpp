@@ -111,6 +111,7 @@ std::vector<ShaderDefine> WorldCacheSettings::defines(std::uint32_t pending_capa
                                  {"WORLD_CACHE_LOG2_RADIANCE", log2_radiance ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_HITS_FULL", secondary_hits_full ? "1" : "0"},
                                  {"WORLD_CACHE_SECONDARY_ALBEDO_BASE", secondary_albedo_base ? "1" : "0"},
+                                 {"WORLD_CACHE_HIT_NORMAL_VERTEX", hit_normal_vertex ? "1" : "0"},
                                  {"WORLD_CACHE_DROP_ZERO_CHANNEL", drop_zero_channel_light ? "1" : "0"},
                                  {"WORLD_CACHE_DI_COSINE_MISSING", direct_light_cosine_missing ? "1" : "0"},
                                  {"WORLD_CACHE_TILE_CANDIDATES", tile_candidates ? "1" : "0"},

@@ -77,6 +77,7 @@ struct WorldCacheSettings {
   // Solari's diffuse-only cache (hit_radiance.glsl).
   bool secondary_hits_full{};
   bool secondary_albedo_base{};  // brdf.secondary_albedo (GiSettings)
+  bool hit_normal_vertex{};      // world_cache.hit_normal (GiSettings::hit_cache_normal_vertex)
   // world_cache.direct_light_zero_channel "drop": a cell's direct light is
   // lost when any channel of the chosen sample's radiance is 0 (Bevy 0.17-0.19:
   // a pure red light never lights the cache).

@@ -44,6 +44,7 @@ GI_CONST uint BINDING_PREVIOUS_SCENE = 15u;
 GI_CONST uint BINDING_VISIBILITY = 8u;        // uvec2[] per pixel: instance, primitive (VISIBILITY_MISS)
 GI_CONST uint BINDING_DEPTH = 9u;             // float[] per pixel: hit t (0 on a miss)
 GI_CONST uint BINDING_GBUFFER = 10u;          // GBufferTexel[] per pixel
+GI_CONST uint BINDING_PREVIOUS_TRANSFORMS = 20u;  // mat4[] per instance: last frame's object_to_world (motion vectors)
 
 // Reference path tracer.
 GI_CONST uint BINDING_REFERENCE_A = 11u;      // vec4[] per pixel: rgb sum, w samples (even sample indices)

@@ -10,7 +10,8 @@
 // DI_MIS_VISIBILITY (1: visibility in the cross MIS targets, defensive spatial
 // MIS), DI_TARGET_BASE_COLOR (1: target colour base, 0: base · (1 − metallic)),
 // DI_TEMPORAL_PERMUTATION (1: permuted reprojection, point fallback),
-// DI_TILE_PER_WORKGROUP (1: one frame-constant tile per 8×8 workgroup).
+// DI_TILE_PER_WORKGROUP (1: one frame-constant tile per 8×8 workgroup),
+// DI_REUSE_RADIANCE_SCENE (1: reused samples re-resolved in full precision).
 #include "core/shared/light_tiles.h"
 #include "core/shared/reservoir.h"
 #include "core/shared/restir_di.h"
@@ -59,8 +60,17 @@ DiPixel di_pixel(uvec2 pixel) {
   return d;
 }
 
+// A reused sample (merge targets, the final ray, shading). DI_REUSE_RADIANCE_SCENE
+// 1 (Bevy: v0.18.0:realtime/restir_di.wgsl:345, v0.19.0 :276-283): the light
+// re-resolved from the scene in full precision, so the tile encoding shapes
+// only the initial candidates' target and DI stays unbiased under its
+// clipping or rounding; 0 (the harness's earlier model): through the encoding.
 ResolvedLightSample di_resolve(LightSample s) {
+#if DI_REUSE_RADIANCE_SCENE != 0
+  return resolve_light_sample(s);
+#else
   return resolve_light_sample_encoded(s, LIGHT_TILE_EXPOSURE, LIGHT_TILE_LOG2_RADIANCE != 0);
+#endif
 }
 
 // p̂ at a surface (position, geometric and shading normal, diffuse colour).

@@ -7,10 +7,16 @@
 // the wrong surface, as it did in Bevy. An ID naming no drawn triangle
 // resolves to an empty texel.
 //
-// Motion vectors project the point with previous_camera only: instance
-// motion (last frame's transforms) is ignored for now, so moving objects get
-// the camera's motion alone. GBUFFER_MOTION_IGNORED (temporal.motion_vectors
-// ignored) zeroes them, keeping them valid: a reprojection bug on purpose.
+// Motion vectors (temporal.motion_vectors): GBUFFER_MOTION_OBJECT (object,
+// Bevy's prepass: v0.18.0:bevy_pbr/src/prepass/prepass.wgsl:158-164,197-205)
+// project where the surface point was last frame, the same barycentrics on
+// the triangle's vertices under the instance's previous transform, with
+// previous_camera; without it (camera, the harness's earlier model) the
+// point as it is now, so a moving object gets the camera's motion alone. An
+// instance that did not move takes the point itself under either, so a
+// static scene's motion vectors are the same bits under both.
+// GBUFFER_MOTION_IGNORED (ignored) zeroes them, keeping them valid: a
+// reprojection bug on purpose.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Bevy rasterises its G-buffer with bevy_pbr, which decodes normal maps as
@@ -32,6 +38,11 @@ layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility
 layout(std430, set = 0, binding = BINDING_DEPTH) readonly buffer Depth { float depth[]; };
 layout(std430, set = 0, binding = BINDING_GBUFFER) writeonly buffer GBuffer { GBufferTexel gbuffer[]; };
 layout(std430, set = 0, binding = BINDING_CLUSTER_TABLE) readonly buffer ClusterTable { uint cluster_table[]; };
+#ifdef GBUFFER_MOTION_OBJECT
+layout(std430, set = 0, binding = BINDING_PREVIOUS_TRANSFORMS) readonly buffer PreviousTransforms {
+  mat4 previous_object_to_world[];
+};
+#endif
 
 // (instance, primitive) named by a packed ID; false if it names no drawn triangle.
 bool decode_visibility(uint packed, out uint instance, out uint primitive) {
@@ -88,10 +99,14 @@ void main() {
     vec3 dir = camera_ray_direction(frame.camera, pixel, resolution);
     GpuInstance inst = scene_instance(instance);
     uint base = inst.first_index + 3u * primitive;
-    vec3 p0 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base)).position);
-    vec3 p1 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 1u)).position);
-    vec3 p2 = vec3(inst.object_to_world * scene_vertex(inst.first_vertex + scene_index(base + 2u)).position);
-    SurfacePoint s = surface_at(instance, primitive, ray_barycentrics(origin, dir, p0, p1, p2));
+    vec4 l0 = scene_vertex(inst.first_vertex + scene_index(base)).position;
+    vec4 l1 = scene_vertex(inst.first_vertex + scene_index(base + 1u)).position;
+    vec4 l2 = scene_vertex(inst.first_vertex + scene_index(base + 2u)).position;
+    vec3 p0 = vec3(inst.object_to_world * l0);
+    vec3 p1 = vec3(inst.object_to_world * l1);
+    vec3 p2 = vec3(inst.object_to_world * l2);
+    vec2 bary = ray_barycentrics(origin, dir, p0, p1, p2);
+    SurfacePoint s = surface_at(instance, primitive, bary);
     GpuMaterial m = scene_material(s.material);
 
     g.position_depth = vec4(s.position, depth[index]);
@@ -99,8 +114,16 @@ void main() {
     g.shading_normal = vec4(s.shading_normal, m.reflectance.y);  // w: the material model (gbuffer.h)
     g.base_color_metallic = s.base_color_metallic;
     g.emissive_roughness = vec4(s.emissive, s.perceptual_roughness);
+    vec3 previous_position = s.position;
+#ifdef GBUFFER_MOTION_OBJECT
+    mat4 previous_transform = previous_object_to_world[instance];
+    if (previous_transform != inst.object_to_world) {
+      vec4 local = (1.0 - bary.x - bary.y) * l0 + bary.x * l1 + bary.y * l2;
+      previous_position = vec3(previous_transform * vec4(vec3(local), 1.0));
+    }
+#endif
     vec2 previous;
-    bool valid = camera_project(frame.previous_camera, s.position, resolution, previous);
+    bool valid = camera_project(frame.previous_camera, previous_position, resolution, previous);
     vec2 motion = valid ? previous - (vec2(pixel) + vec2(0.5)) : vec2(0.0);
 #ifdef GBUFFER_MOTION_IGNORED
     motion = vec2(0.0);  // the profile's temporal.motion_vectors ignored: a reprojection bug

@@ -131,6 +131,18 @@ vec3 gi_target_colour(vec3 base_color) {
 #endif
 }
 
+// The normal a GI sample keeps for the reuse jacobian (restir_gi.sample_normal):
+// Solari's sample_point.world_normal, the hit's shading normal unflipped
+// (v0.18.0 realtime/restir_gi.wgsl:108), whose jacobian is 0 from a back face
+// (:206-209 saturate both cosines); or ng, the face normal facing the ray.
+vec3 gi_sample_normal(SurfacePoint s, vec3 ng) {
+#if GI_SAMPLE_NORMAL_SHADING != 0
+  return s.shading_normal;
+#else
+  return ng;
+#endif
+}
+
 // Secondary hits (hit_radiance.glsl) with this pass's settings.
 #define HIT_RADIANCE GI_HIT_RADIANCE
 #define HIT_SURFACES_FULL GI_SECONDARY_HITS_FULL
@@ -143,6 +155,7 @@ vec3 gi_target_colour(vec3 base_color) {
 #define HIT_MESH_TANGENT_FRAME SPECULAR_MESH_TANGENT_FRAME
 #define HIT_PERFECT_MIRROR_METAL SPECULAR_PERFECT_MIRROR_METAL
 #define HIT_SUN_NEE_ONLY SPECULAR_SUN_NEE_ONLY
+#define HIT_CACHE_NORMAL_VERTEX GI_HIT_CACHE_NORMAL_VERTEX
 #include "gpu/shaders/hit_radiance.glsl"
 
 // A GI pass's pixel-rooted cache query (GI_HIT_RADIANCE 2): full lifetime,

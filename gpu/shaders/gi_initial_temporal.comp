@@ -85,7 +85,7 @@ void main() {
         vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
         vec3 ns = dot(s.shading_normal, ng) < 0.0 ? -s.shading_normal : s.shading_normal;
         canonical.sample_position = vec4(s.position, 1.0);
-        canonical.sample_normal.xyz = ng;
+        canonical.sample_normal.xyz = gi_sample_normal(s, ng);
         canonical.radiance =
             vec4(secondary_hit_radiance(hit, s, ng, ns, dir, gi_pixel_query(gi_cache_query_id(0u, chain, index), true), rng),
                  TWO_PI);
@@ -121,7 +121,7 @@ void main() {
     weight_sum += w;
     if (rng_next_float(rng) * weight_sum <= w) {
       canonical.sample_position = vec4(s.position, 1.0);
-      canonical.sample_normal.xyz = ng;
+      canonical.sample_normal.xyz = gi_sample_normal(s, ng);
       canonical.radiance.rgb = radiance;
     }
   }

@@ -15,6 +15,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shaders/scene_bindings.glsl"
 #include "gpu/shaders/gi_common.glsl"
+#include "gpu/shaders/spatial_neighbour.glsl"
 
 layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;
 
@@ -56,11 +57,8 @@ void main() {
       // Bevy d1095b0efb (#22617) to 11b81eb1d7^: each refused try halves the disk.
       if (attempt > 0u) search_radius *= 0.5;
 #endif
-      vec2 u = rng_next_vec2(rng);
-      float r = search_radius * sqrt(u.x);
-      float phi = TWO_PI * u.y;
-      ivec2 q = ivec2(pixel) + ivec2(round(vec2(r * cos(phi), r * sin(phi))));
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(resolution))) || q == ivec2(pixel)) continue;
+      ivec2 q;
+      if (!spatial_neighbour_pixel(pixel, resolution, search_radius, rng, q)) continue;
       GiPixel candidate = gi_pixel(uvec2(q));
       if (!candidate.hit || gi_dissimilar(d, candidate.position, candidate.ns)) continue;
       neighbour = q.y * int(resolution.x) + q.x;

@@ -26,6 +26,10 @@ uint glossy_segments_traced = 0u;
 #else
 #define GLOSSY_SEGMENT_TRACED()
 #endif
+#ifdef SPECULAR_MIRROR_THROUGHPUT_BRDF
+// Solari 0.19's mirror-vertex throughput (secondary_hit.h), this pass's only.
+#define HIT_MIRROR_THROUGHPUT_BRDF 1
+#endif
 #include "gpu/shaders/gi_common.glsl"
 
 layout(local_size_x = RAY_WORKGROUP_X, local_size_y = RAY_WORKGROUP_Y) in;

@@ -24,6 +24,7 @@
 #define HIT_GLOSSY_ROUGHNESS WORLD_CACHE_GLOSSY_ROUGHNESS
 #define HIT_GLOSSY_BOUNCES WORLD_CACHE_GLOSSY_BOUNCES
 #define HIT_ALBEDO_BASE WORLD_CACHE_SECONDARY_ALBEDO_BASE
+#define HIT_CACHE_NORMAL_VERTEX WORLD_CACHE_HIT_NORMAL_VERTEX
 #define HIT_POWER_MIS 0  // the cache's GI ray follows glossy hits only under brdf.secondary_hits full (harness)
 #include "gpu/shaders/hit_radiance.glsl"
 
@@ -74,7 +75,7 @@ void main() {
 #else
     vec3 albedo = s.base_color_metallic.rgb * (1.0 - s.base_color_metallic.a);
 #endif
-    irradiance = albedo * world_cache_query(hit_position, hit_normal, hit.t, false, life, state.y, cell, 0u, rng);
+    irradiance = albedo * world_cache_query(hit_position, hit_cache_normal(s, hit_normal), hit.t, false, life, state.y, cell, 0u, rng);
 #endif
   }
   wc_new_radiance[i] += vec4(irradiance, 0.0);
