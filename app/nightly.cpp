@@ -175,6 +175,8 @@ void run_one(const std::filesystem::path& file, const NightlyOptions& o, nlohman
         if (f.contains("region_mask") && f["region_mask"].is_object()) {
           extras.region_mask_file = ro.out_dir / f["region_mask"].value("file", std::string());
           extras.region_mask_layer = f["region_mask"].value("layer", std::string());
+          entry["region_mask"] = {{"file", (rel / f["region_mask"].value("file", std::string())).string()},
+                                  {"layer", extras.region_mask_layer}};
         }
         write_inspect_page(capture, extras, capture / "inspect.html");
         entry["inspect"] = (rel / f["capture"].get<std::string>() / "inspect.html").string();

@@ -83,6 +83,15 @@ void compare_rows(CaptureEntryDiff& d, const std::uint8_t* a, const std::uint8_t
   if (!d.differing) d.mask.clear();
 }
 
+// An entry the other capture holds and this one does not.
+CaptureEntryDiff only_there(const std::string& name, const char* kind) {
+  CaptureEntryDiff d;
+  d.name = name;
+  d.kind = kind;
+  d.status = "only_there";
+  return d;
+}
+
 }  // namespace
 
 std::uint32_t buffer_row_words(const CaptureBuffer& b, std::uint32_t width, std::uint32_t height) {
@@ -136,13 +145,7 @@ CaptureDiff diff_captures(const CaptureData& here, const CaptureData& there) {
     out.entries.push_back(std::move(d));
   }
   for (const CaptureBuffer& b : there.buffers)
-    if (!here.find_buffer(b.name)) {
-      CaptureEntryDiff d;
-      d.name = b.name;
-      d.kind = "buffer";
-      d.status = "only_there";
-      out.entries.push_back(std::move(d));
-    }
+    if (!here.find_buffer(b.name)) out.entries.push_back(only_there(b.name, "buffer"));
   for (const CaptureLayer& a : here.layers) {
     CaptureEntryDiff d;
     d.name = a.name;
@@ -165,13 +168,7 @@ CaptureDiff diff_captures(const CaptureData& here, const CaptureData& there) {
     out.entries.push_back(std::move(d));
   }
   for (const CaptureLayer& b : there.layers)
-    if (!here.find_layer(b.name)) {
-      CaptureEntryDiff d;
-      d.name = b.name;
-      d.kind = "layer";
-      d.status = "only_there";
-      out.entries.push_back(std::move(d));
-    }
+    if (!here.find_layer(b.name)) out.entries.push_back(only_there(b.name, "layer"));
   for (const CaptureEntryDiff& d : out.entries)
     if (d.status != "equal") out.identical = false;
   return out;

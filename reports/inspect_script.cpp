@@ -234,29 +234,51 @@ function redraw() {
     document.getElementById("range-note").textContent =
       state.comp === "rgb" ? "" : "false colour over [" + show(r.lo, "<f4") + ", " + show(r.hi, "<f4") + "]";
     await outline();
+    mark();
   });
   return drawing;
+}
+// The picked pixel, ringed in cyan over the view (the canvas is at the
+// image's resolution: the ring is the eight pixels around it).
+function mark() {
+  const s = byName.get(state.source);
+  if (!s || !s.image || !state.picked) return;
+  const [x, y] = state.picked;
+  const ctx = main.getContext("2d");
+  ctx.strokeStyle = "#2ff"; ctx.lineWidth = 1;
+  ctx.strokeRect(x - 0.5, y - 0.5, 2, 2);
+  document.body.dataset.picked = x + "," + y;
 }
 // The region a check judged, outlined over the view when the view is of the
 // image's pixels: #region=x0,y0,x1,y1 (inclusive pixels), else the region the
 // page was written with (META.region, the nightly's failing check) and, where
-// the check gave its mask, the mask's border pixels.
+// the check gave its mask, the mask itself: the pixels outside it dimmed.
 let regionMask = null;
 async function outline() {
   const s = byName.get(state.source);
   if (!s || !s.image) return;
   const r = hashParams.get("region") ? hashParams.get("region").split(",").map(Number) : META.region;
   const ctx = main.getContext("2d");
-  if (META.region_mask && !hashParams.get("region")) {
+  // The report's link names the page's own region in the fragment: the mask
+  // is the region's unless the fragment asks for another.
+  const asked = hashParams.get("region");
+  if (META.region_mask && (!asked || (META.region && asked === META.region.join(",")))) {
     if (!regionMask) regionMask = await blob(META.region_mask);
     const img = ctx.getImageData(0, 0, W, H);
     let border = 0;
     const inside = (x, y) => x >= 0 && y >= 0 && x < W && y < H && regionMask.getUint8(y * W + x) !== 0;
+    // The pixels outside the mask are dimmed rather than the border drawn:
+    // a region of scattered pixels (a shadow threshold on a noisy reference)
+    // is mostly border, and drawing it would hide the pixels it is about.
     for (let y = 0; y < H; ++y)
-      for (let x = 0; x < W; ++x)
-        if (inside(x, y) && !(inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1))) {
-          img.data.set([255, 255, 34, 255], 4 * (y * W + x)); ++border;
+      for (let x = 0; x < W; ++x) {
+        if (!inside(x, y)) {
+          const i = 4 * (y * W + x);
+          for (let c = 0; c < 3; ++c) img.data[i + c] = Math.round(img.data[i + c] * 0.3);
+        } else if (!(inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1))) {
+          ++border;
         }
+      }
     ctx.putImageData(img, 0, 0);
     document.body.dataset.regionMask = String(border);
   }
@@ -268,6 +290,8 @@ async function outline() {
 }
 // A pixel's values in every image-shaped source, decoded by its fields.
 async function pick(x, y) {
+  state.picked = [x, y];
+  redraw();
   const table = el("table", {id: "pixel-table"});
   table.append(el("tr", {}, el("th", {}, "source"), el("th", {}, "chain"), el("th", {}, "field"), el("th", {}, "value")));
   const p = y * W + x;

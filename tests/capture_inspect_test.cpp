@@ -157,6 +157,8 @@ TEST(InspectPage, OpensInChromiumAndAClickedPixelShowsTheNpyValues) {
   EXPECT_NE(dom.output.find("data-images-ok=\"1\""), std::string::npos);
   EXPECT_NE(dom.output.find("data-images-broken=\"0\""), std::string::npos);
   EXPECT_NE(dom.output.find(fmt::format("data-pixel=\"{},{}\"", px, py)), std::string::npos);
+  // The picked pixel is ringed on the view.
+  EXPECT_NE(dom.output.find(fmt::format("data-picked=\"{},{}\"", px, py)), std::string::npos);
 
   const std::vector<double> w = page_values(dom.output, "di/stored_reservoirs", 0, "unbiased_contribution_weight");
   const std::vector<double> m = page_values(dom.output, "di/stored_reservoirs", 0, "confidence_weight");
@@ -331,6 +333,13 @@ TEST(InspectPage, ACheckRegionReachesTheFailureCaptureAndThePageOutlinesIt) {
   EXPECT_NE(dom.output.find("data-region=\"4,2,9,6\""), std::string::npos) << dom.output.substr(0, 2000);
   // The mask's border: the rectangle's 6x5 less its 4x3 inside.
   EXPECT_NE(dom.output.find("data-region-mask=\"18\""), std::string::npos) << dom.output.substr(0, 2000);
+  // The nightly report's link names the same region in the fragment: the
+  // mask is still drawn; a fragment naming another region outlines that alone.
+  const test::CommandResult linked = chromium(page, "#source=output&region=4,2,9,6", dir.path() / "profile2");
+  EXPECT_NE(linked.output.find("data-region-mask=\"18\""), std::string::npos) << linked.output.substr(0, 2000);
+  const test::CommandResult other = chromium(page, "#source=output&region=1,1,3,3", dir.path() / "profile3");
+  EXPECT_NE(other.output.find("data-region=\"1,1,3,3\""), std::string::npos) << other.output.substr(0, 2000);
+  EXPECT_EQ(other.output.find("data-region-mask="), std::string::npos) << other.output.substr(0, 2000);
 }
 
 // The world cache as a picture: every live cell in front of the camera lands

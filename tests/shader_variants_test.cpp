@@ -26,11 +26,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -283,18 +286,36 @@ TEST(ShaderVariants, EveryVariantTheReleasedProfilesUseCompilesWithGlslang) {
     variants.emplace(describe({gpu::RayListTrace::kShader, backend, {}}), Variant{gpu::RayListTrace::kShader, backend, {}});
   EXPECT_GT(set_up, pairs.size() / 2) << "most pairs must set up; refused: " << not_valid.size();
 
-  gpu::ShaderCompiler compiler;
+  // One compiler per core, each taking the next variant: with an empty
+  // SPIR-V cache the compiles are most of this test's time (glslang keeps no
+  // state between TShaders, and the cache's files are renamed into place).
   std::set<std::string> listed_files;
-  std::vector<std::string> failures;
-  for (const auto& [d, v] : variants) {
-    listed_files.insert(fs::path(v.file).filename().string());
-    compiler.set_global_defines(v.globals);
-    try {
-      compiler.compile_file(v.file, v.defines);
-    } catch (const std::exception& e) {
-      failures.push_back(fmt::format("{}\n  used by {} pairs, first {}\n{}", d, users[d], first_user[d], e.what()));
-    }
+  std::vector<const std::pair<const std::string, Variant>*> todo;
+  for (const auto& entry : variants) {
+    listed_files.insert(fs::path(entry.second.file).filename().string());
+    todo.push_back(&entry);
   }
+  std::vector<std::string> failures;
+  std::mutex failures_mutex;
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    gpu::ShaderCompiler compiler;
+    for (std::size_t i = next++; i < todo.size(); i = next++) {
+      const auto& [d, v] = *todo[i];
+      compiler.set_global_defines(v.globals);
+      try {
+        compiler.compile_file(v.file, v.defines);
+      } catch (const std::exception& e) {
+        const std::lock_guard lock(failures_mutex);
+        failures.push_back(fmt::format("{}\n  used by {} pairs, first {}\n{}", d, users.at(d), first_user.at(d), e.what()));
+      }
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned t = 1; t < std::max(1u, std::thread::hardware_concurrency()); ++t) workers.emplace_back(work);
+  work();
+  for (std::thread& t : workers) t.join();
+  std::sort(failures.begin(), failures.end());
   EXPECT_TRUE(failures.empty()) << failures.size() << " of " << variants.size()
                                 << " shader variants do not compile:\n\n"
                                 << fmt::format("{}", fmt::join(failures, "\n\n"));

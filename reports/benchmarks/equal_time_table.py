@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed against error at equal time (issue 17): one row per realtime run from
+"""Speed against error at equal time: one row per realtime run from
 the "equal_time" block of its summary.json (giharness run --equal-time, or any
 nightly). Prints a Markdown table; with --json FILE also writes the rows and
 each run's device and build as one record.

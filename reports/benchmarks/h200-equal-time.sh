@@ -1,4 +1,4 @@
-# The H200 measurement behind h200-equal-time.json (issue 17): every realtime
+# The H200 measurement behind h200-equal-time.json: every realtime
 # scenario of the default suite that has a reference check, run with
 # --equal-time on the H200 (--backend bvh: its driver has no ray queries), so
 # the realtime output, the GPU path tracer on the same GPU and Embree on the
@@ -31,7 +31,7 @@ import json,sys; s=json.load(open('/tmp/sw_$s/sweep.json'))
 for r in s['rows']: print('$s 640x360', r['kind'], r.get('spp'), round(r['ms_per_frame'],4), round(r['relmse'],5), r.get('equal_error_time_ratio_frame'), r.get('fits_budget'))
 json.dump(s, open('$OUT/sweep_$s.json','w'), indent=1)"
 done
-# ReSTIR GI's knobs at 640x360 with the peers beside each point (issue 17):
+# ReSTIR GI's knobs at 640x360 with the peers beside each point:
 # initial samples (Solari: 1) by confidence cap (Solari: 8), and spatial tries.
 $G sweep scenarios/gi_cornell_box.json --vary resolution=640x360 --reference-spp 256 --noise \
     --vary restir_gi.initial_samples=1,2,4,8 --vary restir_gi.confidence_cap=4,8,32 --out /tmp/knobs >> $OUT/runs.log 2>&1 \

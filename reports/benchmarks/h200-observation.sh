@@ -1,4 +1,4 @@
-# The H200 measurement behind h200-observation-on-gpu.json (issue 16): run on the
+# The H200 measurement behind h200-observation-on-gpu.json: run on the
 # device machine from the project root with the bundle of README.md here in
 # .devbundle/bundle.tgz (carry .devbundle), e.g. cp reports/benchmarks/h200-observation.sh .devbundle/run.sh
 set -e

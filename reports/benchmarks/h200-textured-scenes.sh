@@ -1,4 +1,4 @@
-# The H200 record behind h200-textured-scenes.json (issue 19): the textured
+# The H200 record behind h200-textured-scenes.json: the textured
 # scenes of the default suite at their nightly settings (verdicts and GPU
 # ms), then the atrium and the 1 M-triangle atrium at 1280x720 (per-pass GPU
 # medians), with --backend bvh (the driver has no ray queries). The 1 M glb

@@ -1,5 +1,5 @@
 // Writes tests/data/gltf/tangent_oracle.gltf: reference MikkTSpace tangents for
-// tests/tangents_test.cpp (issue 19), computed by the npm package `mikktspace`
+// tests/tangents_test.cpp, computed by the npm package `mikktspace`
 // (Don McCurdy's WebAssembly build of gltf-rs/mikktspace, the port of Morten
 // Mikkelsen's mikktspace.c that glTF-Transform uses).
 //
