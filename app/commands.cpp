@@ -176,6 +176,8 @@ void Commands::add_to(CLI::App& app) {
   replay_->add_flag("--verify", replay_options_.verify, "compare each frame's buffer hashes with the capturing run's");
   replay_->add_option("--out", replay_options_.out_dir, "output directory")->capture_default_str();
   replay_->add_option("--device", replay_options_.device, "Vulkan device index (default: the capturing run's)");
+  replay_->add_option("--capture", replay_capture_list_,
+                      "frames to capture, e.g. 3,7 (the replay runs from the frame after the capture's; inspect --against holds one against the capturing run's)");
 
   schema_ = app.add_subcommand("schema", "print the scenario JSON Schema, each check's parameters from its own file");
   schema_->add_option("--out", schema_options_.out, "write it to this file instead (atomically)");
@@ -216,7 +218,10 @@ int Commands::execute() {
     return run_scenario(scenario, run_options_).exit_code;
   }
   if (reference_->parsed()) return run_reference_command(reference_options_);
-  if (replay_->parsed()) return run_replay_command(replay_options_);
+  if (replay_->parsed()) {
+    replay_options_.capture_frames = parse_frame_list(replay_capture_list_);
+    return run_replay_command(replay_options_);
+  }
   if (nightly_->parsed()) return run_nightly(nightly_options_);
   if (nightly_scenario_->parsed()) return run_nightly_scenario(nightly_scenario_options_);
   if (devices_->parsed()) return list_devices_command();

@@ -119,6 +119,7 @@ struct ReplayOptions {
   bool verify = false;                    // compare every frame's buffer hashes with the capturing run's
   std::filesystem::path out_dir = "out/replay";
   std::optional<int> device;              // default: the capturing run's
+  std::vector<std::uint32_t> capture_frames;  // --capture: frames the replay captures (from the resumed frame on)
 };
 
 int run_replay_command(const ReplayOptions& options);           // app/replay_command.cpp
@@ -185,6 +186,7 @@ class Commands {
   std::filesystem::path scenario_path_;
   RunOptions run_options_;
   std::string capture_list_;
+  std::string replay_capture_list_;
   std::optional<std::uint32_t> run_seeds_;  // run --seeds N
   ReferenceCommandOptions reference_options_;
   NightlyOptions nightly_options_;

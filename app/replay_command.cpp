@@ -41,6 +41,8 @@ int replay_rc(const ReplayOptions& o, const nlohmann::json& m) {
   ro.out_dir = o.out_dir;
   ro.resume_from = o.capture;
   const std::uint32_t first = m["frame"].get<std::uint32_t>();
+  if (!o.capture_frames.empty())
+    throw InputError("--capture", "", "no frame: a radiance-cascades replay writes no captures");
   spdlog::info("replaying {} from frame {} to {} into {}", scenario.name, first, *ro.frames - 1, o.out_dir.string());
   const RunResult result = run_scenario(scenario, ro);
   if (!o.verify) return result.exit_code;
@@ -96,6 +98,11 @@ int run_replay_command(const ReplayOptions& o) {
   ro.out_dir = o.out_dir;
   ro.resume_from = o.capture;
   ro.record_hashes = true;
+  for (const std::uint32_t f : o.capture_frames)
+    if (f <= capture.frame || f >= *ro.frames)
+      throw InputError("--capture", "", fmt::format("a frame the replay runs ({} to {}), got {}", capture.frame + 1,
+                                                    *ro.frames - 1, f));
+  ro.capture = o.capture_frames;
   spdlog::info("replaying {} from frame {} to {} into {}", scenario.name, capture.frame + 1, *ro.frames - 1,
                o.out_dir.string());
   const RunResult run = run_scenario(scenario, ro);

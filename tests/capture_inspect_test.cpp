@@ -33,13 +33,14 @@ namespace {
 
 constexpr std::uint32_t kWidth = 32, kHeight = 18;
 
-std::filesystem::path make_capture(const std::filesystem::path& dir, const std::string& name) {
+std::filesystem::path make_capture(const std::filesystem::path& dir, const std::string& name,
+                                   const std::string& frames = "3") {
   const std::filesystem::path scenario = dir / "gi_inspect.json";
   std::ofstream(scenario) << R"({"name": "gi_inspect", "scene": {"generator": "cornell_box"}, "resolution": [32, 18],
     "frames": 4, "seed": 5, "profile": "solari-0.18", "mode": "realtime", "gi": true, "events": [],
     "checks": [{"name": "finite"}]})";
   const test::CommandResult r =
-      test::run_giharness("run " + scenario.string() + " --capture 3 --out " + (dir / name).string());
+      test::run_giharness("run " + scenario.string() + " --capture " + frames + " --out " + (dir / name).string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return dir / name / "captures/frame_00003";
 }
@@ -209,6 +210,34 @@ TEST(InspectPage, AgainstARerunIsIdenticalAndAgainstAPerturbedCopyNamesBufferAnd
   EXPECT_NE(b.output.find(">different: di/stored_reservoirs<"), std::string::npos) << b.output.substr(0, 4000);
   const std::regex row(R"re(<tr data-name="di/stored_reservoirs" data-status="different"><td>buffer</td><td>di/stored_reservoirs</td><td>different</td><td>1</td><td>576</td><td>\[0, 5, 7\] word 5 \(unbiased_contribution_weight\)</td>)re");
   EXPECT_TRUE(std::regex_search(b.output, row)) << b.output.substr(b.output.find("diff-table"), 3000);
+}
+
+// A replay (giharness replay, resumed from the snapshot of the frame before)
+// captures the same frame again: the page holds the two identical, every
+// buffer and layer bit for bit. A frame the replay does not run is bad input.
+TEST(InspectPage, AgainstAReplayOfItselfIsIdentical) {
+  ASSERT_TRUE(chromium_installed()) << "install Debian's chromium (.ci/setup)";
+  test::TempDir dir("inspect-replay");
+  // Frame 2's capture holds the state after frame 2: its replay runs frame 3 again.
+  const std::filesystem::path capture = make_capture(dir.path(), "run", "2,3");
+  const std::filesystem::path resumed = dir.path() / "run/captures/frame_00002";
+  const test::CommandResult replay =
+      test::run_giharness("replay " + resumed.string() + " --capture 3 --out " + (dir.path() / "replay").string());
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  const std::filesystem::path replayed = dir.path() / "replay/captures/frame_00003";
+  ASSERT_TRUE(std::filesystem::exists(replayed / "manifest.json")) << replay.output;
+  const std::filesystem::path page = dir.path() / "replay.html";
+  ASSERT_EQ(test::run_giharness("inspect " + capture.string() + " --against " + replayed.string() + " --out " + page.string())
+                .exit_code, 0);
+  const test::CommandResult dom = chromium(page, "", dir.path() / "profile");
+  EXPECT_TRUE(console_errors(dom.output).empty()) << dom.output.substr(0, 4000);
+  EXPECT_NE(dom.output.find("data-identical=\"1\""), std::string::npos) << dom.output.substr(0, 4000);
+  EXPECT_NE(dom.output.find(">identical: every buffer and every layer is equal bit for bit<"), std::string::npos);
+
+  const test::CommandResult early =
+      test::run_giharness("replay " + resumed.string() + " --capture 2 --out " + (dir.path() / "early").string());
+  EXPECT_EQ(early.exit_code, 2) << early.output;
+  EXPECT_NE(early.output.find("--capture"), std::string::npos) << early.output;
 }
 
 // The reference beside the output is `giharness reference`'s image of the same
