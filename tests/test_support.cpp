@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <tuple>
 #include <utility>
 
@@ -35,17 +36,13 @@ CommandResult run_command(const std::string& command) {
 
 CommandResult run_giharness(const std::string& args, const std::string& env) {
   CommandResult r = run_command(env + (env.empty() ? "" : " ") + GIHARNESS_BINARY + std::string(" ") + args);
-  // Each run's wall breakdown (replay/wall_breakdown.h) goes to the test's own
-  // output, so that ctest's log (--output-junit, -V) says which run of a slow
-  // test took the time and how much of it was the driver's compile.
-  for (std::size_t at = r.output.find(": wall "); at != std::string::npos; at = r.output.find(": wall ", at + 1)) {
-    const std::size_t begin = r.output.rfind('\n', at);
-    const std::size_t end = r.output.find('\n', at);
-    std::cout << "giharness " << args.substr(0, args.find(' ', args.find(' ') + 1)) << ": "
-              << r.output.substr(begin == std::string::npos ? 0 : begin + 1,
-                                 (end == std::string::npos ? r.output.size() : end) - (begin == std::string::npos ? 0 : begin + 1))
-              << "\n";
-  }
+  // Each run's wall breakdown line (replay/wall_breakdown.h, it names the
+  // scenario) goes to the test's own output, so that ctest's log
+  // (--output-junit, -V) says which run of a slow test took the time and how
+  // much of it was the driver's compile.
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(": wall ") != std::string::npos) std::cout << line << "\n";
   return r;
 }
 
