@@ -158,7 +158,7 @@ FrameLoop::Taken FrameLoop::take(std::uint32_t frame, std::chrono::steady_clock:
   if (!setup_.realtime) t.nonfinite_samples = renderer_->reference_nonfinite_samples();
   if (setup_.gi) t.gi_stats = renderer_->gi().stats();
   if (setup_.renderer_options.world_cache) t.cache_stats = renderer_->world_cache().stats();
-  if (hash_log_ || frame + 1 == setup_.frames) t.state_hashes = renderer_->frame_hashes();
+  if (hashes_state(frame)) t.state_hashes = renderer_->frame_hashes();
   const gpu::Device::TransferCounts& now = device_.transfers();
   t.transfers = {now.downloaded - before.downloaded, now.uploaded - before.uploaded, now.downloads - before.downloads,
                  now.uploads - before.uploads};
@@ -170,6 +170,10 @@ const Image& FrameLoop::read_output() {
   output_read_ = true;
   return output_;
 }
+
+bool FrameLoop::logs_hashes(std::uint32_t frame) const { return hash_log_ && frame >= setup_.hash_log_from; }
+
+bool FrameLoop::hashes_state(std::uint32_t frame) const { return logs_hashes(frame) || frame + 1 == setup_.frames; }
 
 // Frame f's observation may wait until frame f + 1 is on the GPU when it
 // reads only what take() kept: no check judging f reads a buffer, no
@@ -266,11 +270,11 @@ void FrameLoop::observe(const Taken& t, bool deferred) {
   frame_log_.add(record);
   const bool last = frame + 1 == setup_.frames;
   if (last) read_output();  // the run's final image (summary, baseline)
-  if (hash_log_ || last) {
+  if (hashes_state(frame)) {
     gpu::StateList state;
     renderer_->list_state(state);
     const nlohmann::json hashes = hash_record(frame, state, t.state_hashes);
-    if (hash_log_) hash_log_->add(hashes);
+    if (logs_hashes(frame)) hash_log_->add(hashes);
     if (last)
       for (const nlohmann::json& b : hashes["buffers"]) final_state_hashes_[b[0].get<std::string>()] = b[1];
   }
@@ -299,7 +303,7 @@ void FrameLoop::run() {
     const bool noise_frame = setup_.realtime && frame >= noise_start();
     if (setup_.realtime) each_pipeline([&](gpu::Renderer& r) { r.frame_output().set_accumulate_noise(noise_frame); });
     if (noise_frame) temporal_noise_.count_frame();
-    if (hash_log_ || frame + 1 == setup_.frames) {  // the state hashed at the end of the frame, in its submission
+    if (hashes_state(frame)) {  // the state hashed at the end of the frame, in its submission
       gpu::StateList state;
       renderer_->list_state(state);
       renderer_->hash_after_next_frame(state_ranges(state));

@@ -87,6 +87,8 @@ class FrameLoop {
   Taken take(std::uint32_t frame, std::chrono::steady_clock::time_point started,
              const gpu::Device::TransferCounts& before);
   bool can_defer(std::uint32_t frame) const;
+  bool logs_hashes(std::uint32_t frame) const;    // the hash log records this frame
+  bool hashes_state(std::uint32_t frame) const;  // the log's frames and the last (the summary's hashes)
   void observe(const Taken& taken, bool deferred);
   const Image& read_output();  // this frame's output image, read back once
   std::uint32_t noise_start() const { return std::max(first_frame_, setup_.frames / 2); }

@@ -77,7 +77,9 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options)
     warmup_frames = std::max(warmup_frames, n.warmup_frames);
   }
   // Captures carry the run's hashes (replay --verify), replays record theirs.
-  record_hashes = record_hashes || options.record_hashes || !captures.empty() || !options.resume_from.empty();
+  const bool hashes_wanted = record_hashes || options.record_hashes || !options.resume_from.empty();
+  record_hashes = hashes_wanted || !captures.empty();
+  hash_log_from = hashes_wanted || captures.empty() ? 0u : *captures.begin();
 
   gpu::RendererOptions& r = renderer_options;
   r.width = width;

@@ -43,6 +43,11 @@ struct RunSetup {
   std::set<std::uint32_t> captures;  // the scenario's, --capture's and the checks'
   nlohmann::json skipped_captures = nlohmann::json::array();  // the scenario's, past a --frames run
   bool record_hashes = false;
+  // The hash log's first frame: 0, or a run that logs only for its captures
+  // logs from its first capture on (a replay of a capture compares the frames
+  // from the capture's on; hashing each earlier frame would be the GPU's time
+  // for no reader).
+  std::uint32_t hash_log_from = 0;
   // Realtime chains for the checks' noise estimates (the most any check asks
   // for; 2 with "noise"): chain A is the run's pipeline, each other chain a
   // pipeline of its own at independent_chain_seed(seed, chain), so the chains

@@ -392,7 +392,7 @@ TEST(DiFidelity, BevysDiAndVisibilityMisAreBitIdenticalAcrossRunsAndThreadCounts
     const fs::path out = dir.path() / tag;
     const test::CommandResult r = test::run_giharness(
         "run " + scenario.string() +
-            " --capture 5 --set restir_di.initial_visibility=fed_forward --set restir_di.mis_visibility=true --out " +
+            " --capture 5 --hash-log --set restir_di.initial_visibility=fed_forward --set restir_di.mis_visibility=true --out " +
             out.string(),
         env);
     EXPECT_EQ(r.exit_code, 0) << r.output;

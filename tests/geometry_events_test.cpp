@@ -189,8 +189,8 @@ TEST(GeometryEvents, SpawnRunIsBitIdenticalAtOneThread) {
             {"translation", {-1.2, 0, 0.2}}}});
   const auto s = write_scenario(dir.path(), "visible_spawns", {{"generator", "cache_closed_room"}}, nullptr, events, 8,
                                 {48, 27});
-  ASSERT_EQ(run(s, dir.path() / "default", "--capture 5").exit_code, 0);
-  ASSERT_EQ(run(s, dir.path() / "one", "--capture 5", "LP_NUM_THREADS=1").exit_code, 0);
+  ASSERT_EQ(run(s, dir.path() / "default", "--capture 5 --hash-log").exit_code, 0);
+  ASSERT_EQ(run(s, dir.path() / "one", "--capture 5 --hash-log", "LP_NUM_THREADS=1").exit_code, 0);
   const auto log = read_lines(dir.path() / "default/buffer_hashes.jsonl");
   ASSERT_EQ(log.size(), 8u);
   EXPECT_EQ(log, read_lines(dir.path() / "one/buffer_hashes.jsonl"));

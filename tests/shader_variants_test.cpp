@@ -132,7 +132,7 @@ std::vector<Variant> renderer_variants(const gpu::RendererOptions& o, const Defi
     }
     const std::uint32_t pending = std::max(o.width * o.height * (1u + cache.external_queries_per_pixel), cache.cells);
     cache_defines = cache.defines(pending);
-    for (const char* name : {"world_cache_decay", "world_cache_compact_count", "world_cache_compact_scan",
+    for (const char* name : {"world_cache_decay", "world_cache_compact_scan",
                              "world_cache_compact_write", "world_cache_sample_di", "world_cache_sample_gi",
                              "world_cache_pending_args", "world_cache_commit", "world_cache_blend", "world_cache_stats"})
       add(fmt::format("gpu/shaders/{}.comp", name), cache_defines);

@@ -206,10 +206,10 @@ struct WorldCacheStats {
 GI_CONST uint WORLD_CACHE_SCAN_BLOCK = 1024u;  // cells per block of the two-level compaction
 GI_CONST uint WORLD_CACHE_SCAN_THREADS = 256u; // 4 cells per thread
 GI_CONST uint WORLD_CACHE_CELL_GROUP = 64u;    // per-cell and per-record passes (docs/design.md §3: 64 for ray passes)
-// The full-table sweeps (decay, statistics) give each invocation this many
-// cells, GROUP apart (adjacent invocations read adjacent cells): fewer
-// invocations for lavapipe to start (each cell's work is a few loads), the
-// same result per cell.
+// The full-table sweeps (decay, compaction, statistics) give each invocation
+// this many adjacent cells, so a workgroup walks one scan block
+// (gpu/shaders/world_cache_sweep.glsl): fewer invocations for lavapipe to
+// start (each cell's work is a few loads), the same result per cell.
 GI_CONST uint WORLD_CACHE_SWEEP_CELLS = 16u;
 
 GI_SHADER_END

@@ -155,7 +155,6 @@ WorldCache::WorldCache(Device& device, ShaderCompiler& compiler, const WorldCach
       view_(device, (settings.view ? std::size_t(width) * height : 1u) * sizeof(glm::vec4), kStorage,
             "world cache view"),
       decay_(make_pass(device, compiler, "world_cache_decay", settings.defines(pending_capacity_))),
-      compact_count_(make_pass(device, compiler, "world_cache_compact_count", settings.defines(pending_capacity_))),
       compact_scan_(make_pass(device, compiler, "world_cache_compact_scan", settings.defines(pending_capacity_))),
       compact_write_(make_pass(device, compiler, "world_cache_compact_write", settings.defines(pending_capacity_))),
       sample_di_(make_pass(device, compiler, "world_cache_sample_di", settings.defines(pending_capacity_))),
@@ -197,9 +196,8 @@ void WorldCache::bind(const SceneResources& scene, const Buffer& gbuffer, const 
       {BINDING_WC_COUNTERS, &counters_},    {BINDING_WC_PENDING, &pending_},
       {BINDING_WC_STATS, &stats_},          {BINDING_WC_VIEW, &view_},
       {BINDING_LIGHT_TILE_PACKED, light_tiles ? light_tiles : &view_}};  // any buffer when unread
-  std::vector<ComputePass*> passes = {&decay_,       &compact_count_, &compact_scan_, &compact_write_,
-                                      &sample_di_,   &sample_gi_,     &pending_args_,  &commit_,
-                                      &blend_,       &stats_pass_};
+  std::vector<ComputePass*> passes = {&decay_,      &compact_scan_, &compact_write_, &sample_di_, &sample_gi_,
+                                      &pending_args_, &commit_,      &blend_,         &stats_pass_};
   if (query_pixels_) passes.push_back(&*query_pixels_);
   for (ComputePass* p : passes) {
     p->bind_scene(scene);
@@ -232,18 +230,20 @@ void WorldCache::record_commit(VkCommandBuffer cmd, GpuTimer& timer) {
 }
 
 // decay .. blend, then (settings.view) the cache view's pixel-rooted queries.
+// A sweep's workgroup walks one compaction block (world_cache_sweep.glsl).
+static_assert(WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS == WORLD_CACHE_SCAN_BLOCK);
+static_assert(WORLD_CACHE_SWEEP_CELLS % 4u == 0u);
+
 void WorldCache::record_update(VkCommandBuffer cmd, GpuTimer& timer) {
   const std::uint32_t cells = settings_.cells;
   const std::uint32_t blocks = cells / WORLD_CACHE_SCAN_BLOCK;
 
   timer.begin(cmd, "world_cache_decay");
-  decay_.dispatch(cmd, group_count(cells, WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS), 1);
+  decay_.dispatch(cmd, blocks, 1);
   timer.end(cmd);
   indirect_barrier(cmd);
 
-  timer.begin(cmd, "world_cache_compact");
-  compact_count_.dispatch(cmd, blocks, 1);
-  indirect_barrier(cmd);
+  timer.begin(cmd, "world_cache_compact");  // the blocks' live counts came with the decay
   compact_scan_.dispatch(cmd, 1, 1);
   indirect_barrier(cmd);
   compact_write_.dispatch(cmd, blocks, 1);
@@ -286,7 +286,7 @@ void WorldCache::commit_pixel_queries(VkCommandBuffer cmd) {
 void WorldCache::record_stats(VkCommandBuffer cmd, GpuTimer& timer) {
   if (!settings_.stats) return;
   timer.begin(cmd, "world_cache_stats");
-  stats_pass_.dispatch(cmd, group_count(settings_.cells, WORLD_CACHE_CELL_GROUP * WORLD_CACHE_SWEEP_CELLS), 1);
+  stats_pass_.dispatch(cmd, settings_.cells / WORLD_CACHE_SCAN_BLOCK, 1);
   timer.end(cmd);
   indirect_barrier(cmd);
 }

@@ -187,7 +187,7 @@ class WorldCache {
   std::uint32_t pending_capacity_;
   Buffer checksums_, life_, radiance_, delta_, geometry_, root_frame_;
   Buffer claims_, active_, active_state_, new_radiance_, block_sums_, counters_, pending_, stats_, view_;
-  ComputePass decay_, compact_count_, compact_scan_, compact_write_, sample_di_, sample_gi_, pending_args_,
+  ComputePass decay_, compact_scan_, compact_write_, sample_di_, sample_gi_, pending_args_,
       commit_, blend_, stats_pass_;
   std::optional<ComputePass> query_pixels_;  // settings.view only
   HostMirror counters_host_, stats_host_;
